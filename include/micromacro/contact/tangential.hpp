@@ -1,0 +1,126 @@
+#pragma once
+// Tangential contact models. A tangential model owns the per-contact state it needs (its
+// History) and declares whether particles must rotate. `Frictionless` has neither, so a scene
+// built with it stores no history and no rotational fields.
+#include <algorithm>
+#include <cmath>
+#include <concepts>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/error.hpp"
+
+namespace micromacro {
+
+/// Tangential force on particle i and the energy it dissipated during this step.
+template <int dim>
+struct TangentialForce {
+    Vec<dim> force = Vec<dim>::Zero();
+    double dissipated_viscous = 0.0;  ///< by gamma_t while sticking
+    double dissipated_sliding = 0.0;  ///< by Coulomb sliding (incl. the spring reset of Eq. 28)
+    bool sliding = false;
+};
+
+struct NoHistory {};
+
+/// No tangential force: perfectly smooth particles.
+struct Frictionless {
+    static constexpr bool has_history = false;
+    static constexpr bool needs_rotation = false;
+    template <int dim>
+    using History = NoHistory;
+    double stiffness() const { return 0.0; }
+};
+
+/// The Cundall-Strack tangential spring of Eq. 23-29, in 2D and 3D.
+template <int dim>
+struct TangentialSpring {
+    Vec<dim> spring = Vec<dim>::Zero();  ///< xi of Eq. 23-28
+    bool sliding = false;                ///< Coulomb state, for the static/dynamic hysteresis
+};
+
+class CundallStrack {
+public:
+    static constexpr bool has_history = true;
+    static constexpr bool needs_rotation = true;
+    template <int dim>
+    using History = TangentialSpring<dim>;
+
+    /// k_t: tangential stiffness; gamma_t: tangential damping; mu_s >= mu_d: static and sliding
+    /// friction coefficients.
+    CundallStrack(double kt, double gamma_t, double mu_s, double mu_d)
+        : kt_(kt), gamma_t_(gamma_t), mu_s_(mu_s), mu_d_(mu_d) {
+        detail::require_positive(kt, "tangential stiffness k_t", "use Frictionless for smooth particles");
+        detail::require_non_negative(gamma_t, "tangential damping gamma_t", "use 0 for no tangential damping");
+        detail::require_non_negative(mu_s, "static friction mu_s", "use 0 for no friction");
+        detail::require_non_negative(mu_d, "sliding friction mu_d", "use 0 for no friction");
+        if (mu_d > mu_s)
+            detail::throw_input_error("sliding friction mu_d = ", mu_d, " exceeds static friction mu_s = ", mu_s,
+                                      "; Coulomb friction needs mu_d <= mu_s (use mu_d = mu_s for one coefficient)");
+    }
+    /// One friction coefficient: mu_s = mu_d = mu, as in the paper's simulations.
+    CundallStrack(double kt, double gamma_t, double mu) : CundallStrack(kt, gamma_t, mu, mu) {}
+
+    double stiffness() const { return kt_; }
+    double damping() const { return gamma_t_; }
+    double mu_static() const { return mu_s_; }
+    double mu_dynamic() const { return mu_d_; }
+
+    template <int dim>
+    double elastic_energy(const History<dim>& h) const {
+        return 0.5 * kt_ * h.spring.squaredNorm();
+    }
+
+    /// Eq. 23-29. `normal_force` is f_n (positive = compressive); the tangential force is
+    /// active only while f_n > 0, otherwise the Coulomb limit is zero and the spring resets.
+    /// The spring in `h` is updated for the next step.
+    template <int dim, bool track_energy>
+    TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force,
+                               double dt, History<dim>& h) const {
+        using V = Vec<dim>;
+        TangentialForce<dim> out;
+        [[maybe_unused]] const double energy_before = track_energy ? elastic_energy<dim>(h) : 0.0;
+        const V spring = h.spring - n * n.dot(h.spring);                         // Eq. 23
+        const V vt = relative_velocity - n * n.dot(relative_velocity);           // Eq. 24
+        const V trial = -kt_ * spring - gamma_t_ * vt;                           // Eq. 26
+        const double fn = std::max(normal_force, 0.0);
+        const double trial_magnitude = trial.norm();
+        // Static until the trial force exceeds mu_s f_n; once sliding, static again only when it
+        // drops below mu_d f_n (the paper's hysteresis between static and dynamic friction).
+        const bool sliding = h.sliding ? trial_magnitude >= mu_d_ * fn : trial_magnitude > mu_s_ * fn;
+        if (!sliding) {
+            out.force = trial;
+            h.spring = spring + vt * dt;                                         // Eq. 27
+            if constexpr (track_energy) out.dissipated_viscous = gamma_t_ * vt.squaredNorm() * dt;
+        } else {
+            const double limit = mu_d_ * fn;
+            const V t = trial_magnitude > 0.0 ? V(trial / trial_magnitude) : V(V::Zero());
+            out.force = limit * t;                                               // Eq. 29
+            h.spring = -(limit / kt_) * t;                                       // Eq. 28
+            // Energy the step took out of the pair that the spring did not store.
+            if constexpr (track_energy)
+                out.dissipated_sliding = -out.force.dot(vt) * dt - (elastic_energy<dim>(h) - energy_before);
+        }
+        h.sliding = sliding;
+        out.sliding = sliding;
+        return out;
+    }
+
+    /// The tangential force of the present state without advancing the spring: the trial
+    /// force of Eq. 26 capped at the Coulomb limit of the contact's current friction state.
+    /// Analysis uses it; it differs from the force of the last step by O(k_t v_t dt).
+    template <int dim>
+    Vec<dim> current_force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force,
+                           const History<dim>& h) const {
+        const Vec<dim> spring = h.spring - n * n.dot(h.spring);
+        const Vec<dim> vt = relative_velocity - n * n.dot(relative_velocity);
+        const Vec<dim> trial = -kt_ * spring - gamma_t_ * vt;
+        const double limit = (h.sliding ? mu_d_ : mu_s_) * std::max(normal_force, 0.0);
+        const double magnitude = trial.norm();
+        return magnitude > limit ? Vec<dim>(trial * (limit / magnitude)) : trial;
+    }
+
+private:
+    double kt_, gamma_t_, mu_s_, mu_d_;
+};
+
+}  // namespace micromacro

@@ -1,0 +1,58 @@
+#pragma once
+// Everything that depends on the spatial dimension lives here and nowhere else.
+//
+// 2D scenes use the plane (x0, x1) = the paper's (x, z); rotation happens about the out-of-plane
+// axis, so angular velocity, torque and rotation angle are scalars. 3D scenes use (x, y, z) and
+// 3-vectors for the rotational quantities.
+#include <Eigen/Core>
+#include <Eigen/Geometry>  // cross product
+#include <concepts>
+
+namespace micromacro {
+
+template <int dim>
+concept SupportedDimension = (dim == 2 || dim == 3);
+
+template <int dim>
+    requires SupportedDimension<dim>
+struct DimTraits;
+
+template <>
+struct DimTraits<2> {
+    static constexpr int dim = 2;
+    static constexpr int rotational_dofs = 1;
+    static constexpr int voigt_size = 3;
+    static constexpr int cell_stencil = 9;  // 3^dim neighbouring cells, own cell included
+    using Vec = Eigen::Vector2d;
+    using Angular = double;  // angular velocity, torque: about the out-of-plane axis
+
+    static Angular zero_angular() { return 0.0; }
+    /// a x b, the out-of-plane component.
+    static Angular cross(const Vec& a, const Vec& b) { return a.x() * b.y() - a.y() * b.x(); }
+    /// v x w for an out-of-plane w: (v1 w, -v0 w).
+    static Vec cross(const Vec& v, Angular w) { return Vec(v.y() * w, -v.x() * w); }
+    static double squared_norm(Angular w) { return w * w; }
+    static double dot(Angular a, Angular b) { return a * b; }
+};
+
+template <>
+struct DimTraits<3> {
+    static constexpr int dim = 3;
+    static constexpr int rotational_dofs = 3;
+    static constexpr int voigt_size = 6;
+    static constexpr int cell_stencil = 27;
+    using Vec = Eigen::Vector3d;
+    using Angular = Eigen::Vector3d;
+
+    static Angular zero_angular() { return Angular::Zero(); }
+    static Angular cross(const Vec& a, const Vec& b) { return a.cross(b); }
+    static double squared_norm(const Angular& w) { return w.squaredNorm(); }
+    static double dot(const Angular& a, const Angular& b) { return a.dot(b); }
+};
+
+template <int dim>
+using Vec = typename DimTraits<dim>::Vec;
+template <int dim>
+using Angular = typename DimTraits<dim>::Angular;
+
+}  // namespace micromacro

@@ -1,0 +1,78 @@
+#pragma once
+// The simulation box and which of its axes are periodic.
+//
+// Periodic axes wrap positions into [lo, hi) and measure separations by the minimum image, so a
+// pair keeps its identity (and its tangential spring) when one partner crosses the boundary.
+// Non-periodic axes are open: particles are held in by walls (or not at all).
+#include <array>
+#include <cmath>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/error.hpp"
+
+namespace micromacro {
+
+template <int dim>
+class Domain {
+public:
+    using V = Vec<dim>;
+
+    /// An unbounded domain: no periodic axis.
+    Domain() : lo_(V::Zero()), hi_(V::Zero()) { periodic_.fill(false); }
+
+    /// A box [lo, hi) with the given periodic axes.
+    Domain(const V& lo, const V& hi, std::array<bool, dim> periodic) : lo_(lo), hi_(hi), periodic_(periodic) {
+        for (int a = 0; a < dim; ++a) {
+            if (!std::isfinite(lo[a]) || !std::isfinite(hi[a]) || !(hi[a] > lo[a]))
+                detail::throw_input_error("Domain: axis ", a, " has lo = ", lo[a], " and hi = ", hi[a],
+                                          "; a box needs finite bounds with hi > lo");
+        }
+    }
+
+    bool periodic(int axis) const { return periodic_[axis]; }
+    bool any_periodic() const {
+        for (bool p : periodic_)
+            if (p) return true;
+        return false;
+    }
+    const V& lo() const { return lo_; }
+    const V& hi() const { return hi_; }
+    double length(int axis) const { return hi_[axis] - lo_[axis]; }
+
+    /// Separation a - b, shortened to the nearest periodic image on periodic axes.
+    V separation(const V& a, const V& b) const {
+        V d = a - b;
+        for (int k = 0; k < dim; ++k)
+            if (periodic_[k]) {
+                const double L = hi_[k] - lo_[k];
+                d[k] -= L * std::round(d[k] / L);
+            }
+        return d;
+    }
+
+    /// Maps a position back into [lo, hi) on periodic axes; leaves open axes alone.
+    void wrap(V& x) const {
+        for (int k = 0; k < dim; ++k)
+            if (periodic_[k]) {
+                const double L = hi_[k] - lo_[k];
+                x[k] -= L * std::floor((x[k] - lo_[k]) / L);
+                if (x[k] >= hi_[k]) x[k] = lo_[k];  // guards the round-off case x = hi
+            }
+    }
+
+    /// A periodic axis must be at least two interaction ranges long, otherwise a particle would
+    /// meet two images of the same partner and the minimum image would be ambiguous.
+    void check_interaction_range(double range) const {
+        for (int k = 0; k < dim; ++k)
+            if (periodic_[k] && length(k) < 2.0 * range)
+                detail::throw_input_error("Domain: periodic axis ", k, " is ", length(k),
+                                          " long, shorter than two interaction ranges (2 x ", range, " = ",
+                                          2.0 * range, "); enlarge the box or use smaller particles");
+    }
+
+private:
+    V lo_, hi_;
+    std::array<bool, dim> periodic_;
+};
+
+}  // namespace micromacro

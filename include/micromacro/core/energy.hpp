@@ -1,0 +1,37 @@
+#pragma once
+// Energy bookkeeping. Stored energies (kinetic, elastic, gravitational) are computed from the
+// state on demand; what leaves or enters the system is accumulated step by step in the books.
+// Conservation: kinetic + potential + dissipated - work_in stays at its initial value, up to
+// the integrator's error (second order in dt for both built-in integrators).
+namespace micromacro {
+
+/// Accumulated since the simulation was prepared.
+struct EnergyBooks {
+    double dissipated_normal = 0;      ///< normal dashpots (gamma_0)
+    double dissipated_tangential = 0;  ///< tangential dashpots (gamma_t), while sticking
+    double dissipated_sliding = 0;     ///< Coulomb sliding
+    double dissipated_background = 0;  ///< background damping (Eq. 30), both kinds
+    double dissipated_walls = 0;       ///< damping of stress-controlled walls (gamma_w)
+    double work_by_walls = 0;          ///< done on the system by moving walls and wall pressure
+
+    double dissipated() const {
+        return dissipated_normal + dissipated_tangential + dissipated_sliding + dissipated_background +
+               dissipated_walls;
+    }
+};
+
+/// Energies of the current state.
+struct EnergyState {
+    double kinetic_translational = 0;
+    double kinetic_rotational = 0;
+    double kinetic_walls = 0;  ///< stress-controlled walls have mass
+    double elastic_normal = 0;
+    double elastic_tangential = 0;
+    double gravitational = 0;
+
+    double kinetic() const { return kinetic_translational + kinetic_rotational + kinetic_walls; }
+    double potential() const { return elastic_normal + elastic_tangential + gravitational; }
+    double total() const { return kinetic() + potential(); }
+};
+
+}  // namespace micromacro

@@ -1,0 +1,523 @@
+#pragma once
+// The simulation: particles, walls and body forces advanced by an integrator, with contacts
+// found by a neighbour-search policy and resolved by a contact law.
+//
+// All pair physics runs through one place, `respond()`, called from the one pair loop and the
+// one wall loop of `compute_forces()`. What a scene does not use is not compiled in: without a
+// tangential law there is no history and no rotation; with `NoWalls` there is no wall code.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <tuple>
+#include <type_traits>
+#include <utility>
+#include <vector>
+
+#include "micromacro/contact/collision.hpp"
+#include "micromacro/contact/contact_law.hpp"
+#include "micromacro/contact/contact_list.hpp"
+#include "micromacro/contact/geometry.hpp"
+#include "micromacro/core/domain.hpp"
+#include "micromacro/core/energy.hpp"
+#include "micromacro/core/error.hpp"
+#include "micromacro/integrators/integrators.hpp"
+#include "micromacro/neighbors/linked_cells.hpp"
+#include "micromacro/particles/particles.hpp"
+#include "micromacro/walls/walls.hpp"
+
+namespace micromacro {
+
+/// One contact as analysis sees it (see Simulation::for_each_contact).
+template <int dim>
+struct ContactView {
+    Index i;                      ///< the particle
+    Index j;                      ///< the partner particle, or the wall number when `wall`
+    bool wall;                    ///< partner is a wall
+    ContactGeometry<dim> geometry;
+    Vec<dim> branch;              ///< r_i - r_j (minimum image); for a wall, r_i minus its projection on the plane
+    double normal_force;          ///< f_n along n, elastic + viscous, positive = repulsive
+    double normal_elastic_force;  ///< k overlap
+    Vec<dim> tangential_force;    ///< on i
+    double elastic_energy;        ///< normal + tangential spring energy
+    bool sliding;
+    Vec<dim> force() const { return normal_force * geometry.normal + tangential_force; }
+};
+
+template <int dim, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet,
+          class Neighbors = LinkedCells, class... BodyForces>
+    requires SupportedDimension<dim>
+class Simulation {
+public:
+    static constexpr bool rotation = Law::needs_rotation;
+    static constexpr bool has_tangential = Law::has_tangential;
+    static constexpr bool has_walls = !std::is_same_v<Boundary, NoWalls>;
+    using V = Vec<dim>;
+    using A = Angular<dim>;
+    using T = DimTraits<dim>;
+    using ParticleSet = Particles<dim, rotation>;
+    using History = typename Law::template History<dim>;
+
+    explicit Simulation(Law law, Domain<dim> domain = {}, Boundary walls = {}, Integrator integrator = {},
+                        Neighbors neighbors = {}, BodyForces... forces)
+        : law_(law), domain_(domain), walls_(std::move(walls)), integrator_(integrator),
+          neighbors_(std::move(neighbors)), body_forces_(forces...) {}
+
+    // ---- set-up ------------------------------------------------------------------------------
+    ParticleSet& particles() { return particles_; }
+    const ParticleSet& particles() const { return particles_; }
+    Boundary& walls() { return walls_; }
+    const Boundary& walls() const { return walls_; }
+    const Domain<dim>& domain() const { return domain_; }
+    const Law& law() const { return law_; }
+    template <class F>
+    F& body_force() { return std::get<F>(body_forces_); }
+
+    void set_time_step(double dt) {
+        detail::require_positive(dt, "time step dt", "choose dt = t_c / 50 (see contact_duration)");
+        dt_ = dt;
+        prepared_ = false;
+    }
+    double time_step() const { return dt_; }
+    /// Skin of the neighbour list: pairs closer than this (surface to surface) are candidates.
+    void set_skin(double skin) {
+        detail::require_positive(skin, "neighbour skin", "a tenth of the mean radius is a good start");
+        skin_ = skin;
+        prepared_ = false;
+    }
+    double skin() const { return skin_; }
+    /// Lets prepare() accept a time step above the stability limit (a blow-up is then detected
+    /// and reported instead of refused up front).
+    void allow_unstable_time_step(bool allow) { allow_unstable_ = allow; }
+    /// Energy tracking costs a few flops per contact; on by default.
+    void set_track_energy(bool on) { track_energy_ = on; }
+
+    /// The largest stable time step of the scene's stiffest two-body oscillation: the normal
+    /// spring between the two lightest particles and, with friction, the tangential spring with
+    /// rotation (Eq. 22's oscillator, limit from Integrator::stability_limit). Many contacts on
+    /// one particle stiffen it further: this bound is necessary, not sufficient.
+    double stable_time_step() const {
+        if (particles_.empty()) return std::numeric_limits<double>::infinity();
+        const auto& inv_m = particles_.template get<field::InverseMass>();
+        const double inv_max = *std::max_element(inv_m.begin(), inv_m.end());
+        const double partners = particles_.size() > 1 ? 2.0 : 1.0;  // another particle, or a wall
+        const double inv_mu_n = partners * inv_max;
+        double limit = Integrator::stability_limit(std::sqrt(law_.normal.stiffness() * inv_mu_n),
+                                                  0.5 * law_.normal.damping() * inv_mu_n);
+        if constexpr (has_tangential) {
+            const auto& inv_I = particles_.template get<field::InverseInertia>();
+            double inv_t = 0.0;
+            for (std::size_t i = 0; i < particles_.size(); ++i) {
+                const double a = particles_.radius()[i];
+                inv_t = std::max(inv_t, inv_m[i] + a * a * inv_I[i]);
+            }
+            const double inv_mu_t = partners * inv_t;
+            limit = std::min(limit, Integrator::stability_limit(std::sqrt(law_.tangential.stiffness() * inv_mu_t),
+                                                               0.5 * law_.tangential.damping() * inv_mu_t));
+        }
+        return limit;
+    }
+
+    /// Checks the scene, builds the neighbour lists and computes the initial forces. Called by
+    /// the first step(); call it yourself to see errors before running.
+    void prepare() {
+        if (!(dt_ > 0.0))
+            detail::throw_input_error("no time step set; call set_time_step(dt), e.g. dt = t_c / 50");
+        const std::size_t n = particles_.size();
+        if (n > std::numeric_limits<Index>::max() - 1)
+            detail::throw_input_error("too many particles: ", n);
+        const auto& r = particles_.radius();
+        if (!(skin_ > 0.0)) {
+            double mean = 0.0;
+            for (double a : r) mean += a;
+            skin_ = n ? 0.2 * mean / n : 1.0;
+        }
+        if (n) domain_.check_interaction_range(2.0 * *std::max_element(r.begin(), r.end()) + skin_);
+        const double limit = stable_time_step();
+        if (dt_ > limit && !allow_unstable_)
+            detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit,
+                                      " s of the stiffest contact (lightest particles); use dt <= ", limit,
+                                      " (the paper uses t_c/50), or allow_unstable_time_step(true) to run anyway");
+        for (auto& x : particles_.position()) domain_.wrap(x);
+        if constexpr (has_walls) {
+            for (std::size_t w = 0; w < walls_.size(); ++w) {
+                for (int k = 0; k < dim; ++k)
+                    if (domain_.periodic(k) && walls_[w].normal[k] != 0.0)
+                        detail::throw_input_error("wall ", w, " is not parallel to periodic axis ", k,
+                                                  "; walls may only bound non-periodic axes");
+                for (std::size_t i = 0; i < n; ++i)
+                    if (!(walls_[w].distance(particles_.position()[i]) > 0.0))
+                        detail::throw_input_error("particle ", i, " starts outside wall ", w, " (its centre is ",
+                                                  -walls_[w].distance(particles_.position()[i]),
+                                                  " m behind the plane); move it inside or move the wall");
+            }
+        }
+        rebuild_neighbors();
+        compute_forces();
+        initial_energy_ = track_energy_ ? energy().total() : 0.0;
+        books_ = {};
+        prepared_ = true;
+    }
+
+    // ---- running -----------------------------------------------------------------------------
+    void step() {
+        if (!prepared_ || reference_.size() != particles_.size()) prepare();
+        integrator_.step(*this, dt_);
+        ++steps_;
+    }
+    void run(std::size_t steps) {
+        for (std::size_t s = 0; s < steps; ++s) step();
+    }
+    /// Runs `steps` steps and calls observer(*this) after each.
+    template <class Observer>
+    void run(std::size_t steps, Observer&& observer) {
+        for (std::size_t s = 0; s < steps; ++s) {
+            step();
+            observer(std::as_const(*this));
+        }
+    }
+    double time() const { return time_; }
+    std::size_t steps_done() const { return steps_; }
+    std::size_t neighbor_rebuilds() const { return rebuilds_; }
+
+    // ---- integrator stages -------------------------------------------------------------------
+    void kick(double h) {
+        auto& v = particles_.template get<field::Velocity>();
+        const auto& f = particles_.template get<field::Force>();
+        const auto& inv_m = particles_.template get<field::InverseMass>();
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] += (h * inv_m[i]) * f[i];
+        if constexpr (rotation) {
+            auto& w = particles_.template get<field::AngularVelocity>();
+            const auto& t = particles_.template get<field::Torque>();
+            const auto& inv_I = particles_.template get<field::InverseInertia>();
+            for (std::size_t i = 0; i < w.size(); ++i) w[i] += (h * inv_I[i]) * t[i];
+        }
+    }
+
+    void drift(double h) {
+        auto& x = particles_.template get<field::Position>();
+        const auto& v = particles_.template get<field::Velocity>();
+        double max_move_sq = 0.0;
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            x[i] += h * v[i];
+            domain_.wrap(x[i]);
+            max_move_sq = std::max(max_move_sq, domain_.separation(x[i], reference_[i]).squaredNorm());
+        }
+        if (!std::isfinite(max_move_sq)) report_blow_up();
+        double wall_move = 0.0;
+        if constexpr (has_walls) {
+            move_walls(h);
+            for (std::size_t w = 0; w < walls_.size(); ++w)
+                wall_move = std::max(wall_move, std::abs(walls_[w].offset - wall_reference_[w]));
+        }
+        time_ += h;
+        const double move = std::sqrt(max_move_sq);
+        if (2.0 * move >= skin_ || move + wall_move >= skin_) rebuild_neighbors();
+    }
+
+    void kick_force_change(double h) {
+        static_assert(Integrator::keeps_previous_forces);
+        auto& v = particles_.template get<field::Velocity>();
+        const auto& f = particles_.template get<field::Force>();
+        const auto& inv_m = particles_.template get<field::InverseMass>();
+        for (std::size_t i = 0; i < v.size(); ++i) v[i] += (h * inv_m[i]) * (f[i] - previous_force_[i]);
+        if constexpr (rotation) {
+            auto& w = particles_.template get<field::AngularVelocity>();
+            const auto& t = particles_.template get<field::Torque>();
+            const auto& inv_I = particles_.template get<field::InverseInertia>();
+            for (std::size_t i = 0; i < w.size(); ++i) w[i] += (h * inv_I[i]) * (t[i] - previous_torque_[i]);
+        }
+    }
+
+    void compute_forces() {
+        if constexpr (Integrator::keeps_previous_forces) {
+            // swap, not copy: compute_forces_impl zeroes the arrays it accumulates into anyway
+            previous_force_.swap(particles_.template get<field::Force>());
+            if constexpr (rotation) previous_torque_.swap(particles_.template get<field::Torque>());
+        }
+        if (track_energy_) compute_forces_impl<true>();
+        else compute_forces_impl<false>();
+    }
+
+    // ---- state and analysis ------------------------------------------------------------------
+    const EnergyBooks& books() const { return books_; }
+    double initial_energy() const { return initial_energy_; }
+
+    EnergyState energy() const {
+        EnergyState e;
+        const auto& v = particles_.velocity();
+        for (std::size_t i = 0; i < particles_.size(); ++i)
+            e.kinetic_translational += 0.5 * particles_.mass()[i] * v[i].squaredNorm();
+        if constexpr (rotation) {
+            const auto& w = particles_.template get<field::AngularVelocity>();
+            const auto& I = particles_.template get<field::Inertia>();
+            for (std::size_t i = 0; i < particles_.size(); ++i) e.kinetic_rotational += 0.5 * I[i] * T::squared_norm(w[i]);
+        }
+        if constexpr (has_walls)
+            for (const auto& w : walls_)
+                if (const auto* s = std::get_if<StressControlled>(&w.motion)) e.kinetic_walls += 0.5 * s->mass * w.speed * w.speed;
+        for_each_contact([&](const ContactView<dim>& c) {
+            e.elastic_normal += law_.normal.elastic_energy(c.geometry.overlap);
+            e.elastic_tangential += c.elastic_energy - law_.normal.elastic_energy(c.geometry.overlap);
+        });
+        std::apply([&](const auto&... f) { ((e.gravitational += gravitational_energy(f)), ...); }, body_forces_);
+        return e;
+    }
+
+    /// kinetic + potential + dissipated - work_in - initial, relative to the initial energy
+    /// (or to the work put in, if that is larger). Needs energy tracking.
+    double energy_residual() const {
+        const double now = energy().total() + books_.dissipated() - books_.work_by_walls;
+        const double scale = std::max({std::abs(initial_energy_), std::abs(books_.work_by_walls),
+                                       std::numeric_limits<double>::min()});
+        return (now - initial_energy_) / scale;
+    }
+
+    /// Elastic energy per particle: each spring's energy split half and half between the two
+    /// partners; a wall gives its share to the particle.
+    std::vector<double> potential_energy_per_particle() const {
+        std::vector<double> u(particles_.size(), 0.0);
+        for_each_contact([&](const ContactView<dim>& c) {
+            if (c.wall) u[c.i] += c.elastic_energy;
+            else {
+                u[c.i] += 0.5 * c.elastic_energy;
+                u[c.j] += 0.5 * c.elastic_energy;
+            }
+        });
+        return u;
+    }
+
+    /// Calls f(ContactView) for every contact with positive overlap, particle pairs first, then
+    /// wall contacts. Forces are those of the present state (see CundallStrack::current_force).
+    template <class F>
+    void for_each_contact(F&& f) const {
+        const auto& x = particles_.position();
+        const auto& r = particles_.radius();
+        for (std::size_t c = 0; c < pairs_.size(); ++c) {
+            const auto [i, j] = pairs_.pairs()[c];
+            const V d = domain_.separation(x[i], x[j]);
+            const double dist = d.norm();
+            if (!(dist < r[i] + r[j]) || dist == 0.0) continue;
+            const V n = d / dist;
+            f(view(i, j, false, n, r[i] + r[j] - dist, d, relative_velocity(i, j, n), history_of(pairs_, c)));
+        }
+        if constexpr (has_walls)
+            for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
+                const auto [i, w] = wall_contacts_.pairs()[c];
+                const auto& wall = walls_[w];
+                const double s = wall.distance(x[i]);
+                if (!(s < r[i])) continue;
+                f(view(i, w, true, wall.normal, r[i] - s, V(s * wall.normal), wall_relative_velocity(i, wall),
+                       history_of(wall_contacts_, c)));
+            }
+    }
+
+    std::size_t contact_count() const {
+        std::size_t count = 0;
+        for_each_contact([&](const ContactView<dim>&) { ++count; });
+        return count;
+    }
+
+private:
+    struct Response {
+        V force;       // on i
+        V tangential;  // tangential part of force, for the torques
+        double normal_force;
+    };
+
+    // The physics of one contact, shared by particle pairs and wall contacts.
+    template <bool track>
+    Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h) {
+        const NormalForce fn = law_.normal.force(overlap, normal_velocity);
+        if constexpr (track) books_.dissipated_normal -= fn.viscous * normal_velocity * dt_;
+        Response out{fn.total() * n, V::Zero(), fn.total()};
+        if constexpr (has_tangential) {
+            const auto ft = law_.tangential.template force<dim, track>(n, relative_velocity, fn.total(), dt_, *h);
+            if constexpr (track) {
+                books_.dissipated_tangential += ft.dissipated_viscous;
+                books_.dissipated_sliding += ft.dissipated_sliding;
+            }
+            out.force += ft.force;
+            out.tangential = ft.force;
+        }
+        return out;
+    }
+
+    template <bool track>
+    void compute_forces_impl() {
+        auto& f = particles_.template get<field::Force>();
+        const auto& x = particles_.position();
+        const auto& r = particles_.radius();
+        f.assign(particles_.size(), V::Zero());
+        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), T::zero_angular());
+        for (std::size_t c = 0; c < pairs_.size(); ++c) {
+            const auto [i, j] = pairs_.pairs()[c];
+            const V d = domain_.separation(x[i], x[j]);
+            const double dist_sq = d.squaredNorm();
+            const double reach = r[i] + r[j];
+            if (dist_sq >= reach * reach) {
+                if constexpr (has_tangential) pairs_.history(c) = History{};  // the contact opened
+                continue;
+            }
+            if (dist_sq == 0.0) report_coincident(i, j);
+            const double dist = std::sqrt(dist_sq);
+            const V n = d / dist;
+            const V dv = particles_.velocity()[i] - particles_.velocity()[j];
+            const Response resp = respond<track>(n, reach - dist, n.dot(dv), relative_velocity(i, j, n, dv),
+                                                 history_of(pairs_, c));
+            f[i] += resp.force;
+            f[j] -= resp.force;
+            if constexpr (rotation) {
+                auto& t = particles_.template get<field::Torque>();
+                const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
+                t[i] -= r[i] * arm;
+                t[j] -= r[j] * arm;
+            }
+        }
+        if constexpr (has_walls) {
+            for (auto& wall : walls_) wall.force = V::Zero();
+            for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
+                const auto [i, w] = wall_contacts_.pairs()[c];
+                auto& wall = walls_[w];
+                const double s = wall.distance(x[i]);
+                if (s >= r[i]) {
+                    if constexpr (has_tangential) wall_contacts_.history(c) = History{};
+                    continue;
+                }
+                const V& n = wall.normal;
+                const V vr = wall_relative_velocity(i, wall);
+                const Response resp = respond<track>(n, r[i] - s, n.dot(vr), vr, history_of(wall_contacts_, c));
+                f[i] += resp.force;
+                wall.force -= resp.force;
+                if constexpr (rotation)
+                    particles_.template get<field::Torque>()[i] -= r[i] * T::cross(n, resp.tangential);
+            }
+        }
+        std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, books_, dt_), ...); }, body_forces_);
+    }
+
+    // v_ij of Eq. 25: relative velocity of the contact points, v_i - v_j + a_i n x w_i + a_j n x w_j.
+    V relative_velocity(Index i, Index j, const V& n, const V& dv) const {
+        if constexpr (rotation) {
+            const auto& w = particles_.template get<field::AngularVelocity>();
+            const auto& r = particles_.radius();
+            return dv + T::cross(n, A(r[i] * w[i] + r[j] * w[j]));
+        } else {
+            return dv;
+        }
+    }
+    V relative_velocity(Index i, Index j, const V& n) const {
+        return relative_velocity(i, j, n, V(particles_.velocity()[i] - particles_.velocity()[j]));
+    }
+    template <class W>
+    V wall_relative_velocity(Index i, const W& wall) const {
+        V vr = particles_.velocity()[i] - wall.speed * wall.normal;
+        if constexpr (rotation)
+            vr += T::cross(wall.normal, A(particles_.radius()[i] * particles_.template get<field::AngularVelocity>()[i]));
+        return vr;
+    }
+
+    template <class List>
+    static auto* history_of(List& list, std::size_t c) {
+        if constexpr (has_tangential) return &list.history(c);
+        else return static_cast<History*>(nullptr);
+    }
+
+    ContactView<dim> view(Index i, Index j, bool wall, const V& n, double overlap, const V& branch, const V& vr,
+                          const History* h) const {
+        ContactView<dim> c{i, j, wall, {n, overlap, n.dot(vr), vr}, branch, 0, 0, V::Zero(), 0, false};
+        const NormalForce fn = law_.normal.force(overlap, c.geometry.normal_velocity);
+        c.normal_force = fn.total();
+        c.normal_elastic_force = fn.elastic;
+        c.elastic_energy = law_.normal.elastic_energy(overlap);
+        if constexpr (has_tangential) {
+            c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), *h);
+            c.elastic_energy += law_.tangential.elastic_energy(*h);
+            c.sliding = h->sliding;
+        }
+        return c;
+    }
+
+    template <class F>
+    double gravitational_energy(const F& force) const {
+        if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
+        else return 0.0;
+    }
+
+    void move_walls(double h) {
+        std::vector<double> before(walls_.size());
+        for (std::size_t w = 0; w < walls_.size(); ++w) before[w] = walls_[w].offset;
+        walls_.move(time_, h, domain_);
+        if (!track_energy_) return;
+        for (std::size_t w = 0; w < walls_.size(); ++w) {
+            const auto& wall = walls_[w];
+            const double moved = wall.offset - before[w];
+            if (const auto* s = std::get_if<StressControlled>(&wall.motion)) {
+                // The wall is part of the system: the pressure does work, the damper dissipates.
+                books_.work_by_walls += s->pressure * walls_.area(wall, domain_) * moved;
+                books_.dissipated_walls += s->damping * wall.speed * wall.speed * h;
+            } else {
+                // A driven wall does work -F_wall . displacement on the particles.
+                books_.work_by_walls -= wall.force.dot(wall.normal) * moved;
+            }
+        }
+    }
+
+    void rebuild_neighbors() {
+        const auto& x = particles_.position();
+        const auto& r = particles_.radius();
+        auto& next = pairs_.scratch();
+        next.clear();
+        neighbors_.find_pairs(x, r, domain_, skin_, next);
+        pairs_.commit_scratch();
+        reference_ = x;
+        if constexpr (has_walls) {
+            auto& wn = wall_contacts_.scratch();
+            wn.clear();
+            for (Index i = 0; i < x.size(); ++i)
+                for (Index w = 0; w < walls_.size(); ++w)
+                    if (walls_[w].distance(x[i]) < r[i] + skin_) wn.push_back({i, w});
+            wall_contacts_.commit_scratch();
+            wall_reference_.resize(walls_.size());
+            for (std::size_t w = 0; w < walls_.size(); ++w) wall_reference_[w] = walls_[w].offset;
+        }
+        ++rebuilds_;
+    }
+
+    [[noreturn]] void report_coincident(Index i, Index j) const {
+        detail::throw_input_error("particles ", i, " and ", j, " have coincident centres (at distance 0), so their "
+                                  "contact normal is undefined; move one of them");
+    }
+
+    [[noreturn]] void report_blow_up() const {
+        const auto& x = particles_.position();
+        std::size_t bad = 0;
+        while (bad < x.size() && x[bad].allFinite()) ++bad;
+        throw SimulationError(detail::concat(
+            "the simulation blew up at step ", steps_ + 1, " (t = ", time_, " s): particle ", bad,
+            " has a non-finite position. The time step dt = ", dt_, " s against the stability limit ",
+            stable_time_step(), " s is the usual cause; reduce dt"));
+    }
+
+    Law law_;
+    Domain<dim> domain_;
+    Boundary walls_;
+    Integrator integrator_;
+    Neighbors neighbors_;
+    std::tuple<BodyForces...> body_forces_;
+    ParticleSet particles_;
+    ContactList<History> pairs_;
+    [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
+    std::vector<V> reference_;
+    // Forces of the previous evaluation, for integrators that correct with the force change.
+    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<V>, NoHistory> previous_force_;
+    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<A>, NoHistory>
+        previous_torque_;
+    std::vector<double> wall_reference_;
+    EnergyBooks books_;
+    double initial_energy_ = 0.0;
+    double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
+    std::size_t steps_ = 0, rebuilds_ = 0;
+    bool prepared_ = false, allow_unstable_ = false, track_energy_ = true;
+};
+
+}  // namespace micromacro

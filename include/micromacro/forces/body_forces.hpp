@@ -1,0 +1,64 @@
+#pragma once
+// Forces that act on each particle alone. Each policy adds to the force (and torque) arrays and,
+// when energy is tracked, books what it dissipates; a policy with a potential reports it.
+#include <vector>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/energy.hpp"
+#include "micromacro/core/error.hpp"
+#include "micromacro/particles/particles.hpp"
+
+namespace micromacro {
+
+/// Background damping, Eq. 30: f_i -= gamma_b v_i, and t_i -= gamma_r omega_i when particles rotate.
+struct BackgroundDamping {
+    double translational = 0.0;  ///< gamma_b (kg/s)
+    double rotational = 0.0;     ///< gamma_r (kg m^2/s)
+
+    BackgroundDamping() = default;
+    BackgroundDamping(double gamma_b, double gamma_r) : translational(gamma_b), rotational(gamma_r) {
+        detail::require_non_negative(gamma_b, "background damping gamma_b", "use 0 to switch it off");
+        detail::require_non_negative(gamma_r, "rotational background damping gamma_r", "use 0 to switch it off");
+    }
+
+    template <bool track_energy, int dim, bool rot>
+    void apply(Particles<dim, rot>& p, EnergyBooks& books, double dt) const {
+        auto& f = p.template get<field::Force>();
+        const auto& v = p.template get<field::Velocity>();
+        double dissipated = 0.0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            f[i] -= translational * v[i];
+            if constexpr (track_energy) dissipated += translational * v[i].squaredNorm() * dt;
+        }
+        if constexpr (rot) {
+            auto& t = p.template get<field::Torque>();
+            const auto& w = p.template get<field::AngularVelocity>();
+            for (std::size_t i = 0; i < p.size(); ++i) {
+                t[i] -= rotational * w[i];
+                if constexpr (track_energy) dissipated += rotational * DimTraits<dim>::squared_norm(w[i]) * dt;
+            }
+        }
+        if constexpr (track_energy) books.dissipated_background += dissipated;
+    }
+};
+
+/// Uniform gravity: f_i += m_i g, potential energy -sum m_i g . x_i.
+template <int dim>
+struct Gravity {
+    Vec<dim> g = Vec<dim>::Zero();
+
+    template <bool track_energy, bool rot>
+    void apply(Particles<dim, rot>& p, EnergyBooks&, double) const {
+        auto& f = p.template get<field::Force>();
+        const auto& m = p.template get<field::Mass>();
+        for (std::size_t i = 0; i < p.size(); ++i) f[i] += m[i] * g;
+    }
+    template <bool rot>
+    double potential_energy(const Particles<dim, rot>& p) const {
+        double u = 0.0;
+        for (std::size_t i = 0; i < p.size(); ++i) u -= p.mass()[i] * g.dot(p.position()[i]);
+        return u;
+    }
+};
+
+}  // namespace micromacro

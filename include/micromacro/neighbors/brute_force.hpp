@@ -1,0 +1,25 @@
+#pragma once
+// O(N^2) neighbour search: every pair is tested. The reference the tests hold the linked-cell
+// search to, and a fine choice below a few hundred particles.
+#include <vector>
+
+#include "micromacro/contact/contact_list.hpp"
+#include "micromacro/core/domain.hpp"
+
+namespace micromacro {
+
+struct BruteForce {
+    /// Appends to `out`, sorted by (i, j), every pair i < j whose surfaces are closer than `skin`.
+    template <int dim>
+    void find_pairs(const std::vector<Vec<dim>>& x, const std::vector<double>& r, const Domain<dim>& domain,
+                    double skin, std::vector<IndexPair>& out) const {
+        const auto n = static_cast<Index>(x.size());
+        for (Index i = 0; i < n; ++i)
+            for (Index j = i + 1; j < n; ++j) {
+                const double reach = r[i] + r[j] + skin;
+                if (domain.separation(x[i], x[j]).squaredNorm() < reach * reach) out.push_back({i, j});
+            }
+    }
+};
+
+}  // namespace micromacro

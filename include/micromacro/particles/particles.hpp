@@ -1,0 +1,141 @@
+#pragma once
+// Particle storage: one contiguous array per field, reached by a field tag.
+//
+//     particles.get<field::Position>()[i]
+//
+// Rotational fields (angular velocity, torque, moment of inertia) exist only when the scene
+// needs rotation (`with_rotation`); asking for them otherwise is a compile error, so a
+// frictionless scene carries no rotational storage and never updates it.
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <type_traits>
+#include <vector>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/error.hpp"
+
+namespace micromacro {
+
+namespace field {
+struct Position {};
+struct Velocity {};
+struct Force {};
+struct Radius {};
+struct Mass {};
+struct InverseMass {};
+struct AngularVelocity {};
+struct Torque {};
+struct Inertia {};         ///< moment of inertia
+struct InverseInertia {};
+}  // namespace field
+
+/// Mass and moment of inertia of a sphere of density rho and radius a. The paper uses sphere
+/// masses also in 2D (Sec. 4.3); `disk_inertia` gives the 2D alternative I = m a^2 / 2.
+inline double sphere_mass(double rho, double a) { return 4.0 / 3.0 * std::numbers::pi * rho * a * a * a; }
+inline double sphere_inertia(double m, double a) { return 0.4 * m * a * a; }
+inline double disk_inertia(double m, double a) { return 0.5 * m * a * a; }
+
+namespace detail {
+struct Absent {};
+template <bool present, class T>
+using MaybeVector = std::conditional_t<present, std::vector<T>, Absent>;
+}  // namespace detail
+
+template <int dim, bool with_rotation>
+class Particles {
+public:
+    using V = Vec<dim>;
+    using A = Angular<dim>;
+    static constexpr bool has_rotation = with_rotation;
+
+    std::size_t size() const { return position_.size(); }
+    bool empty() const { return position_.empty(); }
+
+    /// Adds a particle at rest and returns its index. With rotation, `inertia` <= 0 selects the
+    /// sphere value 2/5 m a^2.
+    std::size_t add(const V& position, double radius, double mass, double inertia = 0.0) {
+        const std::size_t i = size();
+        for (int k = 0; k < dim; ++k)
+            if (!std::isfinite(position[k]))
+                detail::throw_input_error("particle ", i, ": position component ", k, " = ", position[k],
+                                          " is not finite; give every particle a finite position");
+        if (!(radius > 0.0) || !std::isfinite(radius))
+            detail::throw_input_error("particle ", i, ": radius = ", radius,
+                                      " is invalid: it must be finite and > 0");
+        if (!(mass > 0.0) || !std::isfinite(mass))
+            detail::throw_input_error("particle ", i, ": mass = ", mass, " is invalid: it must be finite and > 0");
+        position_.push_back(position);
+        velocity_.push_back(V::Zero());
+        force_.push_back(V::Zero());
+        radius_.push_back(radius);
+        mass_.push_back(mass);
+        inverse_mass_.push_back(1.0 / mass);
+        if constexpr (with_rotation) {
+            if (inertia <= 0.0) inertia = sphere_inertia(mass, radius);
+            if (!std::isfinite(inertia))
+                detail::throw_input_error("particle ", i, ": moment of inertia = ", inertia, " is not finite");
+            angular_velocity_.push_back(DimTraits<dim>::zero_angular());
+            torque_.push_back(DimTraits<dim>::zero_angular());
+            inertia_.push_back(inertia);
+            inverse_inertia_.push_back(1.0 / inertia);
+        }
+        return i;
+    }
+
+    template <class Field>
+    auto& get() { return select<Field>(*this); }
+    template <class Field>
+    const auto& get() const { return select<Field>(*this); }
+
+    // Short names for the fields every scene has.
+    std::vector<V>& position() { return position_; }
+    const std::vector<V>& position() const { return position_; }
+    std::vector<V>& velocity() { return velocity_; }
+    const std::vector<V>& velocity() const { return velocity_; }
+    const std::vector<V>& force() const { return force_; }
+    const std::vector<double>& radius() const { return radius_; }
+    const std::vector<double>& mass() const { return mass_; }
+
+    /// Changes a particle's mass (keeps the inverse consistent).
+    void set_mass(std::size_t i, double mass) {
+        detail::require_positive(mass, "mass", "give every particle a positive mass");
+        mass_[i] = mass;
+        inverse_mass_[i] = 1.0 / mass;
+    }
+
+    /// Bytes of particle storage per particle (capacity, all fields).
+    std::size_t bytes_per_particle() const {
+        std::size_t b = 3 * sizeof(V) + 3 * sizeof(double);
+        if constexpr (with_rotation) b += 2 * sizeof(A) + 2 * sizeof(double);
+        return b;
+    }
+
+private:
+    template <class Field, class Self>
+    static auto& select(Self& self) {
+        if constexpr (std::is_same_v<Field, field::Position>) return self.position_;
+        else if constexpr (std::is_same_v<Field, field::Velocity>) return self.velocity_;
+        else if constexpr (std::is_same_v<Field, field::Force>) return self.force_;
+        else if constexpr (std::is_same_v<Field, field::Radius>) return self.radius_;
+        else if constexpr (std::is_same_v<Field, field::Mass>) return self.mass_;
+        else if constexpr (std::is_same_v<Field, field::InverseMass>) return self.inverse_mass_;
+        else {
+            static_assert(with_rotation, "this field exists only in scenes with rotation (a tangential contact law)");
+            if constexpr (std::is_same_v<Field, field::AngularVelocity>) return self.angular_velocity_;
+            else if constexpr (std::is_same_v<Field, field::Torque>) return self.torque_;
+            else if constexpr (std::is_same_v<Field, field::Inertia>) return self.inertia_;
+            else {
+                static_assert(std::is_same_v<Field, field::InverseInertia>, "unknown particle field");
+                return self.inverse_inertia_;
+            }
+        }
+    }
+
+    std::vector<V> position_, velocity_, force_;
+    std::vector<double> radius_, mass_, inverse_mass_;
+    [[no_unique_address]] detail::MaybeVector<with_rotation, A> angular_velocity_, torque_;
+    [[no_unique_address]] detail::MaybeVector<with_rotation, double> inertia_, inverse_inertia_;
+};
+
+}  // namespace micromacro

@@ -1,0 +1,7 @@
+// Only dimensions 2 and 3 exist.
+#include <micromacro/micromacro.hpp>
+
+int main() {
+    micromacro::DimTraits<4>::Vec v;
+    return static_cast<int>(v.size());
+}
