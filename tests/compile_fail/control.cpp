@@ -1,4 +1,4 @@
-// Control for the compile-fail tests: the same set-up used correctly compiles. If this "fails to
+// Control for the compile-fail tests (no expect-error line): the same set-up used correctly compiles. If this "fails to
 // fail", the harness itself (include paths, flags) is broken and the other results mean nothing.
 #include <micromacro/micromacro.hpp>
 

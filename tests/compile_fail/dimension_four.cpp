@@ -1,4 +1,5 @@
 // Only dimensions 2 and 3 exist.
+// expect-error: template constraint failure.*DimTraits
 #include <micromacro/micromacro.hpp>
 
 int main() {

@@ -1,4 +1,5 @@
 // A frictionless scene stores no rotational fields: asking for one must not compile.
+// expect-error: exists only in scenes with rotation
 #include <micromacro/micromacro.hpp>
 
 int main() {

@@ -1,4 +1,5 @@
 // A scene built without walls has no wall code: using walls must not compile.
+// expect-error: NoWalls.*has no member named.*size
 #include <micromacro/micromacro.hpp>
 
 int main() {
