@@ -84,9 +84,15 @@ public:
         const V trial = -kt_ * spring - gamma_t_ * vt;                           // Eq. 26
         const double fn = std::max(normal_force, 0.0);
         const double trial_magnitude = trial.norm();
-        // Static until the trial force exceeds mu_s f_n; once sliding, static again only when it
-        // drops below mu_d f_n (the paper's hysteresis between static and dynamic friction).
-        const bool sliding = h.sliding ? trial_magnitude >= mu_d_ * fn : trial_magnitude > mu_s_ * fn;
+        // Static until the trial force exceeds mu_s f_n; once sliding, static again when it drops
+        // below mu_d f_n (the paper's hysteresis between static and dynamic friction) or when the
+        // motion reverses and unloads the spring. With gamma_t > 0 a reversal already lowers the
+        // trial force below mu_d f_n; with gamma_t = 0 the trial force of a sliding contact sits
+        // exactly at mu_d f_n, and without the reversal test the reset of Eq. 28 would keep the
+        // force pointing against the old motion for ever.
+        // Whatever the state, a trial force above mu_s f_n slides.
+        const bool sliding = trial_magnitude > mu_s_ * fn ||
+                             (h.sliding && trial_magnitude >= mu_d_ * fn && vt.dot(spring) >= 0.0);
         if (!sliding) {
             out.force = trial;
             h.spring = spring + vt * dt;                                         // Eq. 27

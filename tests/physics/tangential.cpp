@@ -1,0 +1,216 @@
+// The Cundall-Strack tangential spring (Eq. 23-29) against exact answers, in 2D and 3D.
+#define BOOST_TEST_MODULE physics_tangential
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <numbers>
+#include <random>
+
+#include "support/dims.hpp"
+
+using namespace mmtest;
+
+namespace {
+template <int dim>
+using FrictionScene = mm::Simulation<dim, mm::FrictionalLinear, mm::Walls<dim>, mm::VelocityVerlet, mm::BruteForce,
+                                     mm::Gravity<dim>>;
+
+template <int dim>
+mm::Vec<dim> unit(int axis) {
+    mm::Vec<dim> e = mm::Vec<dim>::Zero();
+    e[axis] = 1.0;
+    return e;
+}
+constexpr double g = 9.81, mu = 0.5;
+const double a = 1e-3, m = mm::sphere_mass(rho, a);
+
+mm::FrictionalLinear paper_law(double mu_s = mu, double mu_d = mu) {
+    return {mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, mu_s, mu_d)};
+}
+double wall_dt() { return mm::contact_duration(k, gamma0, m) / 50; }
+}  // namespace
+
+// A particle launched sliding without spin on a frictional floor ends rolling at
+// v0 / (1 + I/(m a^2)): friction acts at the contact, so angular momentum about the floor is
+// conserved. 5/7 for sphere inertia, 2/3 for disk inertia, in 2D and 3D alike.
+BOOST_AUTO_TEST_CASE_TEMPLATE(sliding_particle_ends_rolling, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    for (double inertia_factor : {0.4, 0.5}) {
+        mm::Walls<dim> walls;
+        walls.add_axis_aligned(up, true, 0.0);
+        FrictionScene<dim> sim(paper_law(), {}, walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+        mm::Vec<dim> x = mm::Vec<dim>::Zero();
+        x[up] = a - m * g / k;  // resting overlap
+        sim.particles().add(x, a, m, inertia_factor * m * a * a);
+        mm::Vec<dim> v0 = mm::Vec<dim>::Zero();
+        v0[0] = 0.03;
+        if constexpr (dim == 3) v0[1] = 0.04;  // oblique launch in 3D
+        sim.particles().velocity()[0] = v0;
+        sim.set_time_step(wall_dt());
+        sim.run(static_cast<std::size_t>(0.03 / wall_dt()));  // sliding takes ~ 2/7 v0 / (mu g) = 3 ms
+        const mm::Vec<dim> v = sim.particles().velocity()[0];
+        const double expected = v0.norm() / (1.0 + inertia_factor);
+        BOOST_TEST_MESSAGE(dim << "D I = " << inertia_factor << " m a^2: v/v0 = " << v.norm() / v0.norm());
+        BOOST_TEST(std::abs(v.norm() / expected - 1.0) < 1e-6);
+        BOOST_TEST((v - v.dot(v0.normalized()) * v0.normalized()).norm() < 1e-9 * v0.norm());  // no side drift
+        BOOST_TEST(std::abs(v[up]) < 1e-9 * v0.norm());
+    }
+}
+
+// A block (no rotation: huge moment of inertia) on a plane tilted by theta stays put while
+// tan(theta) < mu and slides with acceleration g (sin theta - mu_d cos theta) above. A sphere that
+// may roll instead rolls down any incline below tan(theta) = 7/2 mu with a = 5/7 g sin(theta).
+BOOST_AUTO_TEST_CASE_TEMPLATE(tilted_wall_stick_slide_roll, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    struct Case {
+        double tan_theta;
+        double inertia;  // in m a^2
+        double expected_acceleration_over_g;
+    };
+    auto sin_of = [](double t) { return std::sin(std::atan(t)); };
+    auto cos_of = [](double t) { return std::cos(std::atan(t)); };
+    const Case cases[] = {
+        {0.45, 1e12, 0.0},                                      // sticks
+        {0.55, 1e12, sin_of(0.55) - mu * cos_of(0.55)},         // slides
+        {0.45, 0.4, 5.0 / 7.0 * sin_of(0.45)},                  // rolls
+        {2.0, 0.4, sin_of(2.0) - mu * cos_of(2.0)},             // slides while spinning up (tan > 3.5 mu)
+    };
+    for (const auto& c : cases) {
+        const double theta = std::atan(c.tan_theta);
+        // The plane is tilted about the last horizontal axis; gravity stays vertical.
+        mm::Vec<dim> normal = std::cos(theta) * unit<dim>(up) - std::sin(theta) * unit<dim>(0);
+        mm::Vec<dim> downhill = -std::cos(theta) * unit<dim>(0) - std::sin(theta) * unit<dim>(up);
+        mm::Walls<dim> walls;
+        walls.add(normal, mm::Vec<dim>::Zero());
+        FrictionScene<dim> sim(paper_law(), {}, walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+        const double rest = m * g * std::cos(theta) / k;
+        sim.particles().add((a - rest) * normal, a, m, c.inertia * m * a * a);
+        sim.set_time_step(wall_dt());
+        // Settle 10 ms (the tangential spring's transient decays in ~1 ms), then measure the mean
+        // acceleration over 10 ms.
+        const auto settle = static_cast<std::size_t>(1e-2 / wall_dt()), measure = static_cast<std::size_t>(1e-2 / wall_dt());
+        sim.run(settle);
+        const double v1 = sim.particles().velocity()[0].dot(downhill), t1 = sim.time();
+        sim.run(measure);
+        const double v2 = sim.particles().velocity()[0].dot(downhill), t2 = sim.time();
+        const double acc = (v2 - v1) / (t2 - t1) / g;
+        BOOST_TEST_MESSAGE(dim << "D tan = " << c.tan_theta << " I = " << c.inertia << ": a/g = " << acc << " expected "
+                               << c.expected_acceleration_over_g);
+        if (c.expected_acceleration_over_g == 0.0) {
+            BOOST_TEST(std::abs(acc) < 1e-7);
+            BOOST_TEST(std::abs(v2) < 1e-8);
+        } else {
+            BOOST_TEST(std::abs(acc / c.expected_acceleration_over_g - 1.0) < 1e-3);
+        }
+    }
+}
+
+// Direct checks of the law: the force never exceeds the Coulomb limit mu_s f_n; a sliding contact
+// leaves its spring exactly at mu_d f_n / k_t; the spring stays in the tangent plane.
+BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    const mm::CundallStrack law(2e4, 0.02, 0.6, 0.4);
+    std::mt19937_64 rng(7);
+    std::normal_distribution<double> N(0.0, 1.0);
+    auto random_vec = [&] {
+        V v;
+        for (int i = 0; i < dim; ++i) v[i] = N(rng);
+        return v;
+    };
+    int sliding_seen = 0, static_seen = 0;
+    for (int trial = 0; trial < 2000; ++trial) {
+        mm::TangentialSpring<dim> h;
+        V n = random_vec().normalized();
+        for (int step = 0; step < 50; ++step) {
+            const double fn = 2.0 * std::abs(N(rng)) - 0.2;  // sometimes tensile
+            n = (n + 0.05 * random_vec()).normalized();      // the contact frame turns
+            const auto f = law.force<dim, false>(n, 0.5 * random_vec(), fn, 1e-5, h);
+            BOOST_TEST_REQUIRE(f.force.norm() <= 0.6 * std::max(fn, 0.0) * (1 + 1e-12) + 1e-300);
+            BOOST_TEST_REQUIRE(std::abs(f.force.dot(n)) <= 1e-12 * (1 + f.force.norm()));
+            if (f.sliding) {
+                ++sliding_seen;
+                BOOST_TEST_REQUIRE(std::abs(2e4 * h.spring.norm() - 0.4 * std::max(fn, 0.0)) <= 1e-12 * (1 + fn));
+                BOOST_TEST_REQUIRE(std::abs(f.force.norm() - 0.4 * std::max(fn, 0.0)) <= 1e-12 * (1 + fn));
+            } else {
+                ++static_seen;
+            }
+        }
+    }
+    BOOST_TEST(sliding_seen > 1000);
+    BOOST_TEST(static_seen > 1000);
+}
+
+// Static/dynamic hysteresis: with mu_s > mu_d a sticking contact starts sliding only above
+// mu_s f_n and a sliding one sticks again only below mu_d f_n.
+BOOST_AUTO_TEST_CASE_TEMPLATE(static_and_dynamic_friction, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    const double kt = 1.0;
+    const mm::CundallStrack law(kt, 0.0, 0.6, 0.4);
+    const V n = V::UnitX();
+    V t = V::Zero();
+    t[1] = 1.0;
+    mm::TangentialSpring<dim> h;
+    // Load the spring slowly: the force grows by kt * v * dt = 1e-3 per step.
+    auto load = [&](double speed) { return law.force<dim, false>(n, speed * t, 1.0, 1e-3, h); };
+    double largest_static = 0.0, first_sliding = 0.0;
+    for (int s = 0; s < 2000 && !h.sliding; ++s) {
+        const auto f = load(1.0);
+        (f.sliding ? first_sliding : largest_static) = f.force.norm();
+    }
+    BOOST_TEST(h.sliding);
+    BOOST_TEST(largest_static <= 0.6 + 1e-12);         // sticks up to mu_s f_n ...
+    BOOST_TEST(largest_static > 0.6 - 1e-3 - 1e-12);  // ... (within one load increment)
+    BOOST_TEST(std::abs(first_sliding - 0.4) < 1e-12);  // then slides at mu_d f_n
+    BOOST_TEST(std::abs(kt * h.spring.norm() - 0.4) < 1e-12);  // with the spring at the limit
+    // Continuing the motion keeps it sliding at mu_d f_n, not at mu_s f_n.
+    for (int s = 0; s < 10; ++s) BOOST_TEST(std::abs(load(1.0).force.norm() - 0.4) < 1e-12);
+    BOOST_TEST(h.sliding);
+    // Reversing the motion sticks again and unloads the spring.
+    const auto back = load(-1.0);
+    BOOST_TEST(!back.sliding);
+    BOOST_TEST(std::abs(back.force.norm() - 0.4) < 1e-12);
+    BOOST_TEST(std::abs(kt * h.spring.norm() - (0.4 - 1e-3)) < 1e-12);
+}
+
+// Rotating the whole scene rotates the result: an oblique, spinning frictional collision.
+BOOST_AUTO_TEST_CASE_TEMPLATE(rotation_invariance, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    using M = Eigen::Matrix<double, dim, dim>;
+    M R;
+    if constexpr (dim == 2) R = Eigen::Rotation2Dd(0.7).toRotationMatrix();
+    else R = Eigen::AngleAxisd(0.7, V(1, 2, 3).normalized()).toRotationMatrix();
+    auto run = [&](const M& rot) {
+        mm::Simulation<dim, mm::FrictionalLinear, mm::NoWalls, mm::VelocityVerlet, mm::BruteForce> sim(paper_law());
+        const double m2 = mm::sphere_mass(rho, 1.4e-3);
+        V x2 = V::Zero();
+        x2[0] = 2.25e-3;
+        x2[1] = 0.9e-3;
+        sim.particles().add(V::Zero(), a, m);
+        sim.particles().add(rot * x2, 1.4e-3, m2);
+        V v = V::Zero();
+        v[0] = -0.2;
+        sim.particles().velocity()[1] = rot * v;
+        auto& w = sim.particles().template get<mm::field::AngularVelocity>();
+        if constexpr (dim == 2) w[0] = 150.0;  // rotations in the plane commute with the scene's rotation
+        else w[0] = rot * V(30.0, -120.0, 80.0);
+        sim.set_time_step(mm::contact_duration(k, gamma0, mm::reduced_mass(m, m2)) / 100);
+        sim.run(1500);  // contact after ~5 t_c, over after ~6 t_c
+        return sim;
+    };
+    const auto plain = run(M::Identity());
+    const auto turned = run(R);
+    for (int i = 0; i < 2; ++i) {
+        const V v_plain = plain.particles().velocity()[i], v_turned = turned.particles().velocity()[i];
+        BOOST_TEST((R * v_plain - v_turned).norm() < 1e-12 * 0.2);
+        const auto& w_plain = plain.particles().template get<mm::field::AngularVelocity>()[i];
+        const auto& w_turned = turned.particles().template get<mm::field::AngularVelocity>()[i];
+        if constexpr (dim == 2) BOOST_TEST(std::abs(w_plain - w_turned) < 1e-10 * 150);
+        else BOOST_TEST((R * w_plain - w_turned).norm() < 1e-10 * 150);
+    }
+    BOOST_TEST(plain.books().dissipated_sliding + plain.books().dissipated_tangential > 0.0);  // friction acted
+}
