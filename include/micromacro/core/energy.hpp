@@ -14,6 +14,16 @@ struct EnergyBooks {
     double dissipated_walls = 0;       ///< damping of stress-controlled walls (gamma_w)
     double work_by_walls = 0;          ///< done on the system by moving walls and wall pressure
 
+    /// Adds the mean of two evaluations' bookings (trapezoid rule).
+    void add_mean(const EnergyBooks& a, const EnergyBooks& b) {
+        dissipated_normal += 0.5 * (a.dissipated_normal + b.dissipated_normal);
+        dissipated_tangential += 0.5 * (a.dissipated_tangential + b.dissipated_tangential);
+        dissipated_sliding += 0.5 * (a.dissipated_sliding + b.dissipated_sliding);
+        dissipated_background += 0.5 * (a.dissipated_background + b.dissipated_background);
+        dissipated_walls += 0.5 * (a.dissipated_walls + b.dissipated_walls);
+        work_by_walls += 0.5 * (a.work_by_walls + b.work_by_walls);
+    }
+
     double dissipated() const {
         return dissipated_normal + dissipated_tangential + dissipated_sliding + dissipated_background +
                dissipated_walls;

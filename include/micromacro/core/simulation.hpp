@@ -154,7 +154,7 @@ public:
         rebuild_neighbors();
         compute_forces();
         initial_energy_ = track_energy_ ? energy().total() : 0.0;
-        books_ = {};
+        books_ = {};  // the first evaluation only opens the books
         prepared_ = true;
     }
 
@@ -205,7 +205,7 @@ public:
         if (!std::isfinite(max_move_sq)) report_blow_up();
         double wall_move = 0.0;
         if constexpr (has_walls) {
-            move_walls(h);
+            walls_.move(time_, h, domain_);
             for (std::size_t w = 0; w < walls_.size(); ++w)
                 wall_move = std::max(wall_move, std::abs(walls_[w].offset - wall_reference_[w]));
         }
@@ -328,13 +328,13 @@ private:
     template <bool track>
     Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h) {
         const NormalForce fn = law_.normal.force(overlap, normal_velocity);
-        if constexpr (track) books_.dissipated_normal -= fn.viscous * normal_velocity * dt_;
+        if constexpr (track) step_books_.dissipated_normal -= fn.viscous * normal_velocity * dt_;
         Response out{fn.total() * n, V::Zero(), fn.total()};
         if constexpr (has_tangential) {
             const auto ft = law_.tangential.template force<dim, track>(n, relative_velocity, fn.total(), dt_, *h);
             if constexpr (track) {
-                books_.dissipated_tangential += ft.dissipated_viscous;
-                books_.dissipated_sliding += ft.dissipated_sliding;
+                step_books_.dissipated_tangential += ft.dissipated_viscous;
+                step_books_.dissipated_sliding += ft.dissipated_sliding;
             }
             out.force += ft.force;
             out.tangential = ft.force;
@@ -392,7 +392,41 @@ private:
                     particles_.template get<field::Torque>()[i] -= r[i] * T::cross(n, resp.tangential);
             }
         }
-        std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, books_, dt_), ...); }, body_forces_);
+        std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, step_books_, dt_), ...); }, body_forces_);
+        if constexpr (track) close_step_books();
+    }
+
+    // What an evaluation's forces dissipate, rate x dt, is booked half now and half at the next
+    // evaluation: with velocity Verlet a force acts from half a step before its evaluation to
+    // half a step after, so the trapezoid keeps the books second order and level with the state.
+    void close_step_books() {
+        if constexpr (has_walls) book_wall_work();
+        books_.add_mean(step_books_, previous_step_books_);
+        previous_step_books_ = step_books_;
+        step_books_ = {};
+    }
+
+    // Work of the walls between the last two evaluations (trapezoid in the wall force).
+    void book_wall_work() {
+        wall_books_.resize(walls_.size());
+        for (std::size_t w = 0; w < walls_.size(); ++w) {
+            const auto& wall = walls_[w];
+            auto& last = wall_books_[w];
+            const double push = wall.force.dot(wall.normal);  // < 0: the particles push it outward
+            const double moved = wall.offset - last.offset;
+            if (const auto* s = std::get_if<StressControlled>(&wall.motion)) {
+                // The wall is part of the system: the pressure does work, its damper dissipates.
+                const double area = walls_.area(wall, domain_);
+                books_.work_by_walls += s->pressure * 0.5 * (area + last.area) * moved;
+                books_.dissipated_walls += s->damping * wall.speed * moved;
+                last.area = area;
+            } else {
+                // A driven wall does work -F_wall . displacement on the particles.
+                books_.work_by_walls -= 0.5 * (push + last.push) * moved;
+            }
+            last.offset = wall.offset;
+            last.push = push;
+        }
     }
 
     // v_ij of Eq. 25: relative velocity of the contact points, v_i - v_j + a_i n x w_i + a_j n x w_j.
@@ -441,25 +475,6 @@ private:
     double gravitational_energy(const F& force) const {
         if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
         else return 0.0;
-    }
-
-    void move_walls(double h) {
-        std::vector<double> before(walls_.size());
-        for (std::size_t w = 0; w < walls_.size(); ++w) before[w] = walls_[w].offset;
-        walls_.move(time_, h, domain_);
-        if (!track_energy_) return;
-        for (std::size_t w = 0; w < walls_.size(); ++w) {
-            const auto& wall = walls_[w];
-            const double moved = wall.offset - before[w];
-            if (const auto* s = std::get_if<StressControlled>(&wall.motion)) {
-                // The wall is part of the system: the pressure does work, the damper dissipates.
-                books_.work_by_walls += s->pressure * walls_.area(wall, domain_) * moved;
-                books_.dissipated_walls += s->damping * wall.speed * wall.speed * h;
-            } else {
-                // A driven wall does work -F_wall . displacement on the particles.
-                books_.work_by_walls -= wall.force.dot(wall.normal) * moved;
-            }
-        }
     }
 
     void rebuild_neighbors() {
@@ -513,7 +528,11 @@ private:
     [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<A>, NoHistory>
         previous_torque_;
     std::vector<double> wall_reference_;
-    EnergyBooks books_;
+    EnergyBooks books_, step_books_, previous_step_books_;
+    struct WallBooks {
+        double offset = 0, push = 0, area = 0;
+    };
+    std::vector<WallBooks> wall_books_;
     double initial_energy_ = 0.0;
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
     std::size_t steps_ = 0, rebuilds_ = 0;

@@ -1,0 +1,86 @@
+// Energy bookkeeping: without damping the total energy oscillates at the integrator's O(dt^2)
+// without drift; with damping kinetic + potential + dissipated closes to the integrator's error,
+// converging at its order (second for frictionless contacts; first with the tangential spring,
+// whose update Eq. 27 is an explicit Euler step).
+#define BOOST_TEST_MODULE physics_energy
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+
+#include "support/dims.hpp"
+
+using namespace mmtest;
+
+namespace {
+struct Run {
+    double max_deviation;  // max |E - E0| / E0 (undamped) or max |residual| (damped)
+    double dissipated;     // fraction of E0
+};
+
+// A periodic gas of polydisperse particles (paper radii) with random velocities: many
+// collisions, some with three or more partners at once.
+template <int dim, class Law>
+Run gas(const Law& law, double steps_per_tc, double duration_in_tc, double gamma_b) {
+    const double L = dim == 2 ? 20e-3 : 12e-3;
+    const auto p = random_packing<dim>(dim == 2 ? 200 : 250, 0.5e-3, 1.5e-3, L, 3, false, true);
+    std::array<bool, dim> periodic;
+    periodic.fill(true);
+    mm::Simulation<dim, Law, mm::NoWalls, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping> sim(
+        law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), {}, {}, {},
+        mm::BackgroundDamping(gamma_b, gamma_b * 1e-7));
+    std::mt19937 rng(1);
+    std::normal_distribution<double> N(0, 0.3);
+    for (std::size_t i = 0; i < p.x.size(); ++i) {
+        sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(rho, p.r[i]));
+        for (int d = 0; d < dim; ++d) sim.particles().velocity()[i][d] = N(rng);
+    }
+    const double tc = mm::contact_duration(k, gamma0, mm::sphere_mass(rho, a_mean) / 2);
+    sim.set_time_step(tc / steps_per_tc);
+    sim.prepare();
+    const double e0 = sim.energy().total();
+    Run r{0.0, 0.0};
+    const auto steps = static_cast<std::size_t>(duration_in_tc * steps_per_tc);
+    for (std::size_t s = 0; s < steps; s += 25) {
+        sim.run(25);
+        r.max_deviation = std::max(r.max_deviation, std::abs(sim.energy_residual()));
+    }
+    r.dissipated = sim.books().dissipated() / e0;
+    return r;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(undamped_energy_is_bounded_second_order, D, Dims) {
+    const mm::FrictionlessLinear law{mm::LinearSpringDashpot(k, 0.0)};
+    // 2D: 1e5 steps at t_c/50 (2000 contact durations); 3D: a fifth of that.
+    const double duration = D::value == 2 ? 2000 : 400;
+    const Run coarse = gas<D::value>(law, 50, duration, 0.0);
+    const Run fine = gas<D::value>(law, 100, duration, 0.0);
+    BOOST_TEST_MESSAGE(D::value << "D undamped: max |dE|/E0 " << coarse.max_deviation << " at t_c/50, "
+                                << fine.max_deviation << " at t_c/100");
+    BOOST_TEST(coarse.dissipated == 0.0);
+    BOOST_TEST(coarse.max_deviation < 1e-2);
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);  // O(dt^2): no drift on top
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictionless, D, Dims) {
+    const mm::FrictionlessLinear law{mm::LinearSpringDashpot(k, gamma0)};
+    const Run coarse = gas<D::value>(law, 50, 200, 1e-3);
+    const Run fine = gas<D::value>(law, 100, 200, 1e-3);
+    BOOST_TEST_MESSAGE(D::value << "D damped frictionless: residual " << coarse.max_deviation << " at t_c/50, "
+                                << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
+    BOOST_TEST(coarse.dissipated > 0.3);  // the books have something to close
+    BOOST_TEST(coarse.max_deviation < 5e-3);
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional, D, Dims) {
+    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)};
+    const Run coarse = gas<D::value>(law, 50, 200, 1e-3);
+    const Run fine = gas<D::value>(law, 100, 200, 1e-3);
+    BOOST_TEST_MESSAGE(D::value << "D damped frictional: residual " << coarse.max_deviation << " at t_c/50, "
+                                << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
+    BOOST_TEST(coarse.dissipated > 0.3);
+    BOOST_TEST(coarse.max_deviation < 1e-2);
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 1.7);  // first order (Eq. 27)
+}
