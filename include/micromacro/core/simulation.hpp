@@ -505,12 +505,12 @@ private:
 
     [[noreturn]] void report_blow_up() const {
         const auto& x = particles_.position();
-        std::size_t bad = 0;
-        while (bad < x.size() && x[bad].allFinite()) ++bad;
+        std::size_t bad = 0;  // the first particle whose displacement overflowed or is NaN
+        while (bad + 1 < x.size() && std::isfinite(domain_.separation(x[bad], reference_[bad]).squaredNorm())) ++bad;
         throw SimulationError(detail::concat(
             "the simulation blew up at step ", steps_ + 1, " (t = ", time_, " s): particle ", bad,
-            " has a non-finite position. The time step dt = ", dt_, " s against the stability limit ",
-            stable_time_step(), " s is the usual cause; reduce dt"));
+            " reached position component ", x[bad][0], ". The time step dt = ", dt_,
+            " s against the stability limit ", stable_time_step(), " s is the usual cause; reduce dt"));
     }
 
     Law law_;

@@ -1,0 +1,166 @@
+// Every rejected input raises InputError with a message that names the offending value and the
+// limit; a blow-up that the user allowed is stopped with a SimulationError naming step and particle.
+#define BOOST_TEST_MODULE unit_errors
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
+#include "support/dims.hpp"
+
+using namespace mmtest;
+
+namespace {
+const double not_a_number = std::numeric_limits<double>::quiet_NaN();
+const double infinite = std::numeric_limits<double>::infinity();
+
+// Passes if `f` throws E whose message contains every fragment.
+template <class E = mm::InputError, class F>
+void expect_error(F&& f, std::initializer_list<std::string> fragments) {
+    try {
+        f();
+    } catch (const E& e) {
+        const std::string what = e.what();
+        for (const auto& fragment : fragments)
+            BOOST_TEST(what.find(fragment) != std::string::npos, "message '" << what << "' lacks '" << fragment << "'");
+        return;
+    } catch (const std::exception& e) {
+        BOOST_ERROR("wrong exception type: " << e.what());
+        return;
+    }
+    BOOST_ERROR("no exception");
+}
+
+const mm::FrictionlessLinear law{mm::LinearSpringDashpot(k, gamma0)};
+}  // namespace
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(bad_particles, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    mm::Particles<dim, true> p;
+    expect_error([&] { p.add(V::Zero(), 0.0, 1.0); }, {"radius = 0", "> 0"});
+    expect_error([&] { p.add(V::Zero(), -1e-3, 1.0); }, {"radius = -0.001"});
+    expect_error([&] { p.add(V::Zero(), not_a_number, 1.0); }, {"radius = nan"});
+    expect_error([&] { p.add(V::Zero(), 1e-3, 0.0); }, {"mass = 0", "> 0"});
+    expect_error([&] { p.add(V::Zero(), 1e-3, -2.0); }, {"mass = -2"});
+    V bad = V::Zero();
+    bad[dim - 1] = not_a_number;
+    expect_error([&] { p.add(bad, 1e-3, 1.0); }, {"position component " + std::to_string(dim - 1), "not finite"});
+    bad[dim - 1] = infinite;
+    expect_error([&] { p.add(bad, 1e-3, 1.0); }, {"inf"});
+    BOOST_TEST(p.size() == 0u);  // nothing half-added
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(coincident_centres, D, Dims) {
+    constexpr int dim = D::value;
+    mm::Simulation<dim, mm::FrictionlessLinear> sim(law);
+    sim.particles().add(mm::Vec<dim>::Constant(1e-3), 1e-3, 1e-5);
+    sim.particles().add(mm::Vec<dim>::Constant(5e-3), 1e-3, 1e-5);
+    sim.particles().add(mm::Vec<dim>::Constant(1e-3), 1e-3, 1e-5);
+    sim.set_time_step(1e-7);
+    expect_error([&] { sim.prepare(); }, {"particles 0 and 2", "coincident centres"});
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(time_step_above_stability_limit, D, Dims) {
+    constexpr int dim = D::value;
+    mm::Simulation<dim, mm::FrictionalLinear> sim(
+        mm::FrictionalLinear{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)});
+    const double m = mm::sphere_mass(rho, 0.5e-3);
+    sim.particles().add(mm::Vec<dim>::Zero(), 0.5e-3, m);
+    sim.particles().add(mm::Vec<dim>::Constant(3e-3), 0.5e-3, m);
+    const double limit = sim.stable_time_step();
+    // The bound is that of the lightest pair: below 2/omega, omega = sqrt(k / (m/2)).
+    BOOST_TEST(limit < 2.0 / std::sqrt(k / (m / 2)));
+    BOOST_TEST(limit > 0.2 * mm::contact_duration(k, gamma0, m / 2));
+    sim.set_time_step(1.01 * limit);
+    expect_error([&] { sim.prepare(); }, {"time step dt = ", "exceeds the stability limit", "use dt <="});
+    sim.set_time_step(0.99 * limit);
+    sim.prepare();  // fine
+    expect_error([&] { sim.set_time_step(-1.0); }, {"time step dt = -1"});
+    expect_error([&] { sim.set_time_step(not_a_number); }, {"time step dt = nan"});
+}
+
+BOOST_AUTO_TEST_CASE(missing_time_step) {
+    mm::Simulation<2, mm::FrictionlessLinear> sim(law);
+    sim.particles().add(mm::Vec<2>::Zero(), 1e-3, 1e-5);
+    expect_error([&] { sim.step(); }, {"no time step set"});
+}
+
+BOOST_AUTO_TEST_CASE(overdamped_contact_has_no_duration) {
+    const double m12 = 1e-5;
+    const double critical = 2.0 * std::sqrt(k * m12);
+    expect_error([&] { mm::contact_duration(k, 1.01 * critical, m12); }, {"overdamped", "lower gamma_0 below"});
+    expect_error([&] { mm::restitution(k, 1.01 * critical, m12); }, {"overdamped"});
+    BOOST_TEST(mm::contact_duration(k, 0.99 * critical, m12) > 0.0);
+    expect_error([&] { mm::damping_for_restitution(k, m12, 0.0); }, {"restitution e = 0"});
+    expect_error([&] { mm::damping_for_restitution(k, m12, 1.5); }, {"restitution e = 1.5"});
+    expect_error([&] { mm::LinearSpringDashpot(-1.0, 0.1); }, {"normal stiffness k = -1"});
+    expect_error([&] { mm::LinearSpringDashpot(k, -0.1); }, {"gamma_0 = -0.1"});
+}
+
+BOOST_AUTO_TEST_CASE(friction_coefficients) {
+    expect_error([&] { mm::CundallStrack(2e4, 0.02, 0.3, 0.5); }, {"mu_d = 0.5", "mu_s = 0.3", "mu_d <= mu_s"});
+    expect_error([&] { mm::CundallStrack(0.0, 0.02, 0.5); }, {"k_t = 0", "Frictionless"});
+    expect_error([&] { mm::CundallStrack(2e4, 0.02, -0.1); }, {"mu_s = -0.1"});
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(particle_outside_walls, D, Dims) {
+    constexpr int dim = D::value;
+    mm::Walls<dim> walls;
+    walls.add_box(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(0.01));
+    mm::Simulation<dim, mm::FrictionlessLinear, mm::Walls<dim>> sim(law, {}, walls);
+    sim.particles().add(mm::Vec<dim>::Constant(0.005), 1e-3, 1e-5);
+    mm::Vec<dim> outside = mm::Vec<dim>::Constant(0.005);
+    outside[0] = 0.012;
+    sim.particles().add(outside, 1e-3, 1e-5);
+    sim.set_time_step(1e-7);
+    expect_error([&] { sim.prepare(); }, {"particle 1 starts outside wall 1", "0.002"});
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(periodic_box_too_short, D, Dims) {
+    constexpr int dim = D::value;
+    std::array<bool, dim> periodic{};
+    periodic[0] = true;
+    mm::Vec<dim> hi = mm::Vec<dim>::Constant(0.1);
+    hi[0] = 3e-3;  // shorter than two interaction ranges (2 x (2 mm + skin))
+    mm::Simulation<dim, mm::FrictionlessLinear> sim(law, mm::Domain<dim>(mm::Vec<dim>::Zero(), hi, periodic));
+    sim.particles().add(mm::Vec<dim>::Constant(1e-3), 1e-3, 1e-5);
+    sim.set_time_step(1e-7);
+    expect_error([&] { sim.prepare(); }, {"periodic axis 0 is 0.003", "shorter than two interaction ranges"});
+    expect_error([&] { mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Zero(), periodic); }, {"hi > lo"});
+}
+
+BOOST_AUTO_TEST_CASE(bad_walls) {
+    mm::Walls<2> walls;
+    expect_error([&] { walls.add(mm::Vec<2>::Zero(), mm::Vec<2>::Zero()); }, {"normal has length 0"});
+    expect_error([&] { walls.add_axis_aligned(0, true, 0.0, mm::StrainControlled{0.01, 0.0}); }, {"period = 0"});
+    expect_error([&] { walls.add_axis_aligned(0, true, 0.0, mm::StressControlled{-1.0, 1.0, 1.0}); }, {"pressure = -1"});
+    expect_error([&] { walls.add_axis_aligned(0, true, 0.0, mm::StressControlled{20.0, 0.0, 1.0}); }, {"mass = 0"});
+    expect_error([&] { walls.add(mm::Vec<2>(1, 1), mm::Vec<2>::Zero(), mm::StressControlled{20.0, 1.0, 1.0}); },
+                 {"not axis-aligned needs an explicit area"});
+    BOOST_TEST(walls.size() == 0u);
+    // A stress-controlled wall without opposite walls on the other axis has no area.
+    walls.add_axis_aligned(0, false, 0.01, mm::StressControlled{20.0, 1.0, 1.0});
+    mm::Simulation<2, mm::FrictionlessLinear, mm::Walls<2>> sim(law, {}, walls);
+    sim.particles().add(mm::Vec<2>(0.005, 0.0), 1e-3, 1e-5);
+    sim.set_time_step(1e-7);
+    expect_error([&] { sim.run(2); }, {"area is undefined", "StressControlled::area"});
+}
+
+// A particle squeezed between two walls with dt = 1.5x the limit: the oscillation grows by a
+// constant factor each step until the numbers overflow.
+BOOST_AUTO_TEST_CASE_TEMPLATE(blow_up_is_reported, D, Dims) {
+    constexpr int dim = D::value;
+    mm::Walls<dim> walls;
+    walls.add_axis_aligned(0, true, 0.0);
+    walls.add_axis_aligned(0, false, 1.9e-3);
+    mm::Simulation<dim, mm::FrictionlessLinear, mm::Walls<dim>> sim(law, {}, walls);
+    mm::Vec<dim> x = mm::Vec<dim>::Zero();
+    x[0] = 0.949e-3;
+    sim.particles().add(x, 1e-3, mm::sphere_mass(rho, 1e-3));
+    sim.allow_unstable_time_step(true);
+    sim.set_time_step(1.5 * sim.stable_time_step());
+    expect_error<mm::SimulationError>([&] { sim.run(100000); }, {"blew up at step", "particle 0", "reduce dt"});
+    BOOST_TEST(sim.steps_done() < 100000u);
+}

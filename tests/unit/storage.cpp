@@ -1,0 +1,90 @@
+// Particle fields by name, storage that follows the scene, and contact history that survives a
+// neighbour-list rebuild.
+#define BOOST_TEST_MODULE unit_storage
+#include <boost/test/unit_test.hpp>
+
+#include "support/dims.hpp"
+
+using namespace mmtest;
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(fields_by_name, D, Dims) {
+    constexpr int dim = D::value;
+    mm::Particles<dim, true> p;
+    const mm::Vec<dim> x = mm::Vec<dim>::Constant(0.25);
+    p.add(x, 2e-3, 3.0);
+    p.add(x, 1e-3, 1.0, 7.0);
+    BOOST_TEST(p.size() == 2u);
+    BOOST_TEST((p.template get<mm::field::Position>()[0] == x));
+    BOOST_TEST(p.template get<mm::field::Radius>()[0] == 2e-3);
+    BOOST_TEST(p.template get<mm::field::InverseMass>()[0] == 1.0 / 3.0);
+    BOOST_TEST(p.template get<mm::field::Inertia>()[0] == mm::sphere_inertia(3.0, 2e-3));  // the default
+    BOOST_TEST(p.template get<mm::field::Inertia>()[1] == 7.0);
+    p.set_mass(1, 2.0);
+    BOOST_TEST(p.template get<mm::field::InverseMass>()[1] == 0.5);
+    // Angular velocity is a scalar in 2D and a vector in 3D.
+    static_assert(std::is_same_v<std::decay_t<decltype(p.template get<mm::field::AngularVelocity>()[0])>,
+                                 std::conditional_t<dim == 2, double, Eigen::Vector3d>>);
+}
+
+BOOST_AUTO_TEST_CASE(scenes_store_only_what_they_use) {
+    // No rotational arrays without rotation, no history without a tangential law, no wall lists
+    // without walls.
+    using P2 = mm::Particles<2, false>;
+    using P2r = mm::Particles<2, true>;
+    using P3r = mm::Particles<3, true>;
+    BOOST_TEST(sizeof(P2) < sizeof(P2r));
+    BOOST_TEST(P2().bytes_per_particle() == 3 * 16u + 3 * 8u);
+    BOOST_TEST(P2r().bytes_per_particle() == 3 * 16u + 3 * 8u + 2 * 8u + 2 * 8u);
+    BOOST_TEST(P3r().bytes_per_particle() == 3 * 24u + 3 * 8u + 2 * 24u + 2 * 8u);
+    static_assert(!mm::ContactList<mm::NoHistory>::has_history);
+    static_assert(mm::ContactList<mm::TangentialSpring<2>>::has_history);
+    static_assert(sizeof(mm::ContactList<mm::NoHistory>) < sizeof(mm::ContactList<mm::TangentialSpring<2>>));
+    using Frictionless = mm::Simulation<2, mm::FrictionlessLinear>;
+    using Frictional = mm::Simulation<2, mm::FrictionalLinear>;
+    using WithWalls = mm::Simulation<2, mm::FrictionlessLinear, mm::Walls<2>>;
+    static_assert(!Frictionless::rotation && Frictional::rotation);
+    static_assert(!Frictionless::has_walls && WithWalls::has_walls);
+    BOOST_TEST(sizeof(Frictionless) < sizeof(Frictional));
+    BOOST_TEST(sizeof(Frictionless) < sizeof(WithWalls));
+}
+
+BOOST_AUTO_TEST_CASE(history_survives_rebuild) {
+    mm::ContactList<mm::TangentialSpring<2>> list;
+    list.scratch() = {{0, 1}, {0, 5}, {2, 3}, {4, 9}};
+    list.commit_scratch();
+    list.history(1).spring = mm::Vec<2>(1.0, 2.0);  // (0, 5)
+    list.history(3).spring = mm::Vec<2>(3.0, 4.0);  // (4, 9)
+    list.history(3).sliding = true;
+    // (0, 1) and (2, 3) leave, (1, 2) and (4, 7) arrive, (0, 5) and (4, 9) stay.
+    list.scratch() = {{0, 5}, {1, 2}, {4, 7}, {4, 9}};
+    list.commit_scratch();
+    BOOST_TEST(list.size() == 4u);
+    BOOST_TEST((list.history(0).spring == mm::Vec<2>(1.0, 2.0)));
+    BOOST_TEST((list.history(1).spring == mm::Vec<2>::Zero()));
+    BOOST_TEST((list.history(2).spring == mm::Vec<2>::Zero()));
+    BOOST_TEST((list.history(3).spring == mm::Vec<2>(3.0, 4.0)));
+    BOOST_TEST(list.history(3).sliding);
+    BOOST_TEST(list.scratch().empty());
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(domain_minimum_image_and_wrap, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    std::array<bool, dim> periodic{};
+    periodic[0] = true;
+    const mm::Domain<dim> box(V::Zero(), V::Constant(1.0), periodic);
+    V a = V::Constant(0.5), b = V::Constant(0.5);
+    a[0] = 0.95;
+    b[0] = 0.05;
+    BOOST_TEST(std::abs(box.separation(a, b)[0] - (-0.1)) < 1e-15);  // through the boundary
+    a[1] = 0.95;
+    b[1] = 0.05;
+    BOOST_TEST(std::abs(box.separation(a, b)[1] - 0.9) < 1e-15);  // axis 1 is not periodic
+    V c = V::Constant(0.5);
+    c[0] = 2.25;
+    box.wrap(c);
+    BOOST_TEST(std::abs(c[0] - 0.25) < 1e-15);
+    c[0] = -1e-18;  // rounds to 1.0 after the shift: must land inside [0, 1)
+    box.wrap(c);
+    BOOST_TEST((c[0] >= 0.0 && c[0] < 1.0));
+}
