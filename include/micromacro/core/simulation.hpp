@@ -99,6 +99,9 @@ public:
         if (particles_.empty()) return std::numeric_limits<double>::infinity();
         const auto& inv_m = particles_.template get<field::InverseMass>();
         const double inv_max = *std::max_element(inv_m.begin(), inv_m.end());
+        bool any_wall = false;
+        if constexpr (has_walls) any_wall = walls_.size() > 0;
+        if (particles_.size() < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
         const double partners = particles_.size() > 1 ? 2.0 : 1.0;  // another particle, or a wall
         const double inv_mu_n = partners * inv_max;
         double limit = Integrator::stability_limit(std::sqrt(law_.normal.stiffness() * inv_mu_n),
