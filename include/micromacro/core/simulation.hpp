@@ -120,8 +120,9 @@ public:
         return limit;
     }
 
-    /// Checks the scene, builds the neighbour lists and computes the initial forces. Called by
-    /// the first step(); call it yourself to see errors before running.
+    /// Checks the scene, builds the neighbour lists and computes the forces. Called by the first
+    /// step() and again after set_time_step(), set_skin() or adding particles; call it yourself to
+    /// see errors before running. The energy books open at the first call and are kept after.
     void prepare() {
         if (!(dt_ > 0.0))
             detail::throw_input_error("no time step set; call set_time_step(dt), e.g. dt = t_c / 50");
@@ -155,9 +156,17 @@ public:
             }
         }
         rebuild_neighbors();
-        compute_forces();
-        initial_energy_ = track_energy_ ? energy().total() : 0.0;
-        books_ = {};  // the first evaluation only opens the books
+        if (steps_ == 0) {
+            compute_forces();
+            initial_energy_ = track_energy_ ? energy().total() : 0.0;
+            books_ = {};  // the first evaluation only opens the books
+        } else {
+            // Re-prepared mid-run (new dt, new particles): the same state evaluated again adds
+            // nothing to the books, it only restarts the trapezoid with the new step.
+            const EnergyBooks kept = books_;
+            compute_forces();
+            books_ = kept;
+        }
         prepared_ = true;
     }
 
