@@ -6,7 +6,7 @@
 
 #include <cmath>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
 

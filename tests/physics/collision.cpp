@@ -5,7 +5,7 @@
 
 #include <cmath>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
 

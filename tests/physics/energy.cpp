@@ -8,7 +8,7 @@
 #include <cmath>
 #include <random>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
 
@@ -25,10 +25,8 @@ template <int dim, class Law>
 Run gas(const Law& law, double steps_per_tc, double duration_in_tc, double gamma_b) {
     const double L = dim == 2 ? 20e-3 : 12e-3;
     const auto p = random_packing<dim>(dim == 2 ? 200 : 250, 0.5e-3, 1.5e-3, L, 3, false, true);
-    std::array<bool, dim> periodic;
-    periodic.fill(true);
     mm::Simulation<dim, Law, mm::NoWalls, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping> sim(
-        law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), {}, {}, {},
+        law, periodic_box<dim>(L), {}, {}, {},
         mm::BackgroundDamping(gamma_b, gamma_b * 1e-7));
     std::mt19937 rng(1);
     std::normal_distribution<double> N(0, 0.3);

@@ -3,18 +3,9 @@
 #define BOOST_TEST_MODULE physics_periodic
 #include <boost/test/unit_test.hpp>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
-
-namespace {
-template <int dim>
-mm::Domain<dim> periodic_box(double L) {
-    std::array<bool, dim> p;
-    p.fill(true);
-    return mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), p);
-}
-}  // namespace
 
 // Two colliding particles with a loaded tangential spring drift fast across the boundary during
 // their contact; the same pair in a box too large to cross is the reference.

@@ -6,7 +6,7 @@
 #include <numbers>
 #include <random>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
 

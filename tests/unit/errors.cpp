@@ -7,7 +7,7 @@
 #include <limits>
 #include <string>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
 

@@ -7,18 +7,9 @@
 #include <algorithm>
 #include <numeric>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
-
-namespace {
-template <int dim>
-mm::Domain<dim> periodic_box(double L) {
-    std::array<bool, dim> p;
-    p.fill(true);
-    return mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), p);
-}
-}  // namespace
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(linked_cells_equal_brute_force, D, Dims) {
     constexpr int dim = D::value;

@@ -3,7 +3,7 @@
 #define BOOST_TEST_MODULE unit_storage
 #include <boost/test/unit_test.hpp>
 
-#include "support/dims.hpp"
+#include "support/scenes.hpp"
 
 using namespace mmtest;
 

@@ -29,6 +29,13 @@ public:
         }
     }
 
+    /// A box [lo, hi) periodic on every axis (a representative volume without walls).
+    static Domain fully_periodic(const V& lo, const V& hi) {
+        std::array<bool, dim> all;
+        all.fill(true);
+        return Domain(lo, hi, all);
+    }
+
     bool periodic(int axis) const { return periodic_[axis]; }
     bool any_periodic() const {
         for (bool p : periodic_)

@@ -19,6 +19,12 @@ using Dims = std::tuple<Dim<2>, Dim<3>>;
 // Paper parameters (PAPER-NOTES section 3).
 inline constexpr double rho = 2000.0, k = 1e5, gamma0 = 0.1, a_mean = 1e-3;
 
+/// The cube [0, L)^dim, periodic on every axis.
+template <int dim>
+mm::Domain<dim> periodic_box(double L) {
+    return mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
+}
+
 /// Non-overlapping random particles in [0, L]^dim with radii uniform in [a_min, a_max]
 /// (random sequential placement; gives up on a particle after many tries).
 template <int dim>
@@ -33,12 +39,7 @@ RandomPacking<dim> random_packing(std::size_t n, double a_min, double a_max, dou
     std::mt19937_64 rng(seed);
     std::uniform_real_distribution<double> U(0.0, 1.0);
     RandomPacking<dim> p;
-    const mm::Domain<dim> domain = periodic ? mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), [] {
-        std::array<bool, dim> a;
-        a.fill(true);
-        return a;
-    }())
-                                            : mm::Domain<dim>();
+    const mm::Domain<dim> domain = periodic ? periodic_box<dim>(L) : mm::Domain<dim>();
     for (std::size_t tries = 0; p.x.size() < n && tries < 1000 * n; ++tries) {
         const double a = a_min + (a_max - a_min) * U(rng);
         mm::Vec<dim> c;
