@@ -18,3 +18,8 @@
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/particles/particles.hpp"
 #include "micromacro/walls/walls.hpp"
+#include "micromacro/averaging/micro_macro.hpp"
+#include "micromacro/averaging/region.hpp"
+#include "micromacro/averaging/snapshot.hpp"
+#include "micromacro/averaging/tensor.hpp"
+#include "micromacro/averaging/affine_probe.hpp"

@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross product
 #include <concepts>
+#include <numbers>
 
 namespace micromacro {
 
@@ -26,6 +27,9 @@ struct DimTraits<2> {
     using Vec = Eigen::Vector2d;
     using Angular = double;  // angular velocity, torque: about the out-of-plane axis
 
+    /// "Volume" of a particle of radius a: in 2D its area, as the paper's averages use.
+    static double particle_volume(double a) { return std::numbers::pi * a * a; }
+
     static Angular zero_angular() { return 0.0; }
     /// a x b, the out-of-plane component.
     static Angular cross(const Vec& a, const Vec& b) { return a.x() * b.y() - a.y() * b.x(); }
@@ -43,6 +47,8 @@ struct DimTraits<3> {
     static constexpr int cell_stencil = 27;
     using Vec = Eigen::Vector3d;
     using Angular = Eigen::Vector3d;
+
+    static double particle_volume(double a) { return 4.0 / 3.0 * std::numbers::pi * a * a * a; }
 
     static Angular zero_angular() { return Angular::Zero(); }
     static Angular cross(const Vec& a, const Vec& b) { return a.cross(b); }

@@ -48,6 +48,7 @@ template <int dim, class Law, class Boundary = NoWalls, class Integrator = Veloc
     requires SupportedDimension<dim>
 class Simulation {
 public:
+    static constexpr int dimension = dim;
     static constexpr bool rotation = Law::needs_rotation;
     static constexpr bool has_tangential = Law::has_tangential;
     static constexpr bool has_walls = !std::is_same_v<Boundary, NoWalls>;

@@ -1,0 +1,190 @@
+#pragma once
+// The micro-macro transition with the box (Heaviside) kernel of the paper: fabric (Eq. 11-13,
+// 31), stress (Eq. 14-15) and stiffness (Eq. 9, 16) averaged over a region.
+//
+// Each contact enters with a weight. Contact-point rule: weight 1 if its contact point lies in
+// the region. Particle-centre rule: each partner inside brings its share of the branch (for
+// stress and stiffness) or its own volume (for the fabric). Both give every contact of a
+// periodic packing weight 1 over the whole box, so the rules agree there, and both count each
+// contact once with the centre-to-centre branch vector l (see PAPER-NOTES section 2):
+//   F       = 1/V sum w_V (n n),                     w_V = (V^p + V^q) inside (Eq. 31)
+//   sigma   = 1/V sum w  l (x) f                     (compression positive)
+//   C^n     = 1/V sum w  k   l^2 n_a n_b n_c n_d
+//   C^t     = 1/V sum w  k_t l^2 n_a n_c (delta_bd - n_b n_d)    (= n_a t_b n_c t_d in 2D)
+#include <cmath>
+#include <vector>
+
+#include "micromacro/averaging/region.hpp"
+#include "micromacro/averaging/snapshot.hpp"
+#include "micromacro/averaging/tensor.hpp"
+
+namespace micromacro {
+
+struct AveragingOptions {
+    SelectionRule rule = SelectionRule::contact_point;
+    /// Leave out particles with fewer than dim + 1 contacts (found iteratively) and their contacts.
+    bool exclude_rattlers = false;
+    /// Add the kinetic stress 1/V sum m v (x) v of the particles with centres inside.
+    bool kinetic_stress = false;
+    /// Leave sliding contacts out of the tangential stiffness (their tangential spring is at the
+    /// Coulomb limit and does not respond elastically).
+    bool exclude_sliding_from_tangential_stiffness = false;
+};
+
+template <int dim>
+struct MicroMacro {
+    double volume = 0;
+    std::size_t particles = 0;  ///< centres inside (rattlers included)
+    std::size_t rattlers = 0;   ///< of those, particles with fewer than dim + 1 contacts
+    std::size_t contacts = 0;   ///< contacts with a non-zero weight
+    double coordination = 0;    ///< mean contacts per particle inside (rattlers left out if excluded)
+    double volume_fraction = 0;
+    Tensor2<dim> fabric = Tensor2<dim>::Zero();
+    double contact_number_density = 0;  ///< tr F
+    double g2 = 0;                      ///< tr F / (nu C)
+    double fabric_deviator = 0;         ///< see deviator_magnitude
+    double fabric_angle = 0;            ///< 2D: major axis from axis 1 (rad); 3D: 0 (see fabric_axes)
+    Tensor2<dim> fabric_axes = Tensor2<dim>::Identity();  ///< eigenvectors (columns, ascending eigenvalues)
+    Tensor2<dim> stress_normal = Tensor2<dim>::Zero();
+    Tensor2<dim> stress_tangential = Tensor2<dim>::Zero();
+    Tensor2<dim> stress_kinetic = Tensor2<dim>::Zero();
+    Tensor2<dim> stress = Tensor2<dim>::Zero();  ///< sum of the three
+    double pressure = 0;                         ///< tr sigma / dim
+    double stress_deviator = 0;                  ///< see deviator_magnitude
+    Tensor4<dim> stiffness_normal, stiffness_tangential;
+    double sliding_fraction = 0;  ///< of the counted contacts, weighted
+};
+
+namespace detail {
+/// Particles with fewer than dim + 1 contacts, removing them repeatedly (a removal can make a
+/// neighbour a rattler too).
+template <int dim>
+std::vector<char> find_rattlers(const PackingSnapshot<dim>& s) {
+    std::vector<int> count(s.size(), 0);
+    for (const auto& c : s.contacts) {
+        ++count[c.i];
+        if (!c.wall) ++count[c.j];
+    }
+    std::vector<char> rattler(s.size(), 0);
+    for (bool changed = true; changed;) {
+        changed = false;
+        for (std::size_t p = 0; p < s.size(); ++p)
+            if (!rattler[p] && count[p] < dim + 1) {
+                rattler[p] = 1;
+                changed = true;
+                for (const auto& c : s.contacts) {
+                    if (c.i == p && !c.wall && !rattler[c.j]) --count[c.j];
+                    if (!c.wall && c.j == p && !rattler[c.i]) --count[c.i];
+                }
+            }
+    }
+    return rattler;
+}
+
+template <int dim>
+Vec<dim> wrapped(const PackingSnapshot<dim>& s, Vec<dim> x) {
+    s.domain.wrap(x);
+    return x;
+}
+}  // namespace detail
+
+template <int dim>
+MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt = {}) {
+    MicroMacro<dim> out;
+    out.volume = region.volume();
+    const double V = out.volume;
+    std::vector<char> inside(s.size());
+    for (std::size_t p = 0; p < s.size(); ++p) inside[p] = region.contains(detail::wrapped(s, s.position[p]));
+    const std::vector<char> rattler = detail::find_rattlers(s);
+    auto excluded = [&](Index p) { return opt.exclude_rattlers && rattler[p]; };
+
+    // Particles: count, volume fraction, kinetic stress, coordination.
+    std::vector<int> contacts_of(s.size(), 0);
+    for (const auto& c : s.contacts) {
+        if (c.wall ? excluded(c.i) : (excluded(c.i) || excluded(c.j))) continue;
+        ++contacts_of[c.i];
+        if (!c.wall) ++contacts_of[c.j];
+    }
+    double solid = 0.0, counted = 0.0, contact_sum = 0.0;
+    for (std::size_t p = 0; p < s.size(); ++p) {
+        if (!inside[p]) continue;
+        ++out.particles;
+        out.rattlers += rattler[p];
+        solid += DimTraits<dim>::particle_volume(s.radius[p]);
+        if (opt.kinetic_stress && !s.velocity.empty())
+            out.stress_kinetic += s.mass[p] * s.velocity[p] * s.velocity[p].transpose() / V;
+        if (excluded(p)) continue;
+        counted += 1.0;
+        contact_sum += contacts_of[p];
+    }
+    out.volume_fraction = solid / V;
+    out.coordination = counted > 0 ? contact_sum / counted : 0.0;
+
+    // Contacts.
+    double weight_sum = 0.0, sliding_weight = 0.0;
+    for (const auto& c : s.contacts) {
+        if (c.wall ? excluded(c.i) : (excluded(c.i) || excluded(c.j))) continue;
+        const double vi = DimTraits<dim>::particle_volume(s.radius[c.i]);
+        const double vj = c.wall ? 0.0 : DimTraits<dim>::particle_volume(s.radius[c.j]);
+        double w, w_fabric;
+        if (opt.rule == SelectionRule::contact_point) {
+            const bool in = region.contains(c.point);
+            w = in ? 1.0 : 0.0;
+            w_fabric = in ? vi + vj : 0.0;
+        } else {
+            const bool in_i = inside[c.i], in_j = !c.wall && inside[c.j];
+            w = (in_i ? c.share_i : 0.0) + (in_j ? 1.0 - c.share_i : 0.0);
+            w_fabric = (in_i ? vi : 0.0) + (in_j ? vj : 0.0);
+        }
+        if (w == 0.0 && w_fabric == 0.0) continue;
+        ++out.contacts;
+        const Vec<dim>& n = c.normal;
+        out.fabric += (w_fabric / V) * n * n.transpose();
+        out.stress_normal += (w * c.normal_force / V) * c.branch * n.transpose();
+        out.stress_tangential += (w / V) * c.branch * c.tangential_force.transpose();
+        const double l2 = c.branch.squaredNorm();
+        out.stiffness_normal.add_outer(w * c.k * l2 / V, n, n);
+        if (!(opt.exclude_sliding_from_tangential_stiffness && c.sliding))
+            out.stiffness_tangential.add_tangential(w * c.kt * l2 / V, n);
+        weight_sum += w;
+        sliding_weight += c.sliding ? w : 0.0;
+    }
+    out.sliding_fraction = weight_sum > 0 ? sliding_weight / weight_sum : 0.0;
+
+    out.contact_number_density = out.fabric.trace();
+    out.g2 = out.volume_fraction * out.coordination > 0 ? out.contact_number_density / (out.volume_fraction * out.coordination) : 0.0;
+    out.fabric_deviator = deviator_magnitude<dim>(out.fabric);
+    const auto eig = principal<dim>(out.fabric);
+    out.fabric_axes = eig.eigenvectors();
+    if constexpr (dim == 2) out.fabric_angle = major_axis_angle(out.fabric);
+    out.stress = out.stress_normal + out.stress_tangential + out.stress_kinetic;
+    out.pressure = out.stress.trace() / dim;
+    out.stress_deviator = deviator_magnitude<dim>(out.stress);
+    return out;
+}
+
+/// Stress read from the walls of a box: sigma_aa = mean push of the two walls of axis a divided by
+/// their area (the extents of the other axes between walls, or periodic lengths). Zero for an axis
+/// without two walls.
+template <int dim>
+Tensor2<dim> wall_stress(const PackingSnapshot<dim>& s) {
+    const auto [lo, hi] = s.bounds();
+    Tensor2<dim> sigma = Tensor2<dim>::Zero();
+    for (int a = 0; a < dim; ++a) {
+        double push = 0.0;
+        int walls = 0;
+        for (const auto& w : s.walls)
+            if (w.axis() == a) {
+                push += -w.force.dot(w.normal);
+                ++walls;
+            }
+        if (walls != 2) continue;
+        double area = 1.0;
+        for (int b = 0; b < dim; ++b)
+            if (b != a) area *= hi[b] - lo[b];
+        sigma(a, a) = 0.5 * push / area;
+    }
+    return sigma;
+}
+
+}  // namespace micromacro

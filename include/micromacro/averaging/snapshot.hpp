@@ -1,0 +1,177 @@
+#pragma once
+// What the averaging works on: a frozen packing with its contacts and their forces, taken from a
+// running Simulation or built from a packing file. Averages never touch the engine, so a packing
+// made by any code can be analysed the same way.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <vector>
+
+#include "micromacro/contact/contact_list.hpp"
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/domain.hpp"
+#include "micromacro/core/error.hpp"
+#include "micromacro/core/simulation.hpp"
+#include "micromacro/neighbors/linked_cells.hpp"
+
+namespace micromacro {
+
+/// One contact. Conventions as everywhere: n points from j to i, forces act on i, overlap > 0.
+template <int dim>
+struct ContactRecord {
+    Index i = 0, j = 0;
+    bool wall = false;             ///< j is a wall number
+    Vec<dim> normal;               ///< from j to i
+    Vec<dim> branch;               ///< r_i - r_j (minimum image); for a wall, r_i minus its projection on the plane
+    Vec<dim> point;                ///< contact point (midpoint of the overlap; on the plane for a wall), wrapped
+    double share_i = 1.0;          ///< |r_i - point| / |branch|: i's part of the branch (1 for a wall)
+    double overlap = 0.0;
+    double normal_force = 0.0;     ///< along n, positive = compressive
+    Vec<dim> tangential_force = Vec<dim>::Zero();
+    double k = 0.0, kt = 0.0;      ///< the contact's normal and tangential stiffness
+    bool sliding = false;          ///< at the Coulomb limit
+    Vec<dim> force() const { return normal_force * normal + tangential_force; }
+};
+
+/// A planar wall as the averages see it.
+template <int dim>
+struct WallRecord {
+    Vec<dim> normal;  ///< into the domain
+    double offset;    ///< plane normal . x = offset
+    Vec<dim> force;   ///< on the wall from the particles
+    int axis() const {
+        for (int a = 0; a < dim; ++a)
+            if (std::abs(std::abs(normal[a]) - 1.0) < 1e-14) return a;
+        return -1;
+    }
+    double coordinate() const { return normal[axis()] > 0 ? offset : -offset; }
+};
+
+template <int dim>
+struct PackingSnapshot {
+    Domain<dim> domain;
+    std::vector<Vec<dim>> position, velocity;  ///< velocity may be empty
+    std::vector<double> radius, mass;          ///< mass may be empty
+    std::vector<ContactRecord<dim>> contacts;
+    std::vector<WallRecord<dim>> walls;
+
+    std::size_t size() const { return position.size(); }
+
+    /// The extent of the packing per axis: the periodic box, else the two walls facing each other
+    /// on that axis, else the particles' bounding box (surfaces included).
+    std::pair<Vec<dim>, Vec<dim>> bounds() const {
+        Vec<dim> lo, hi;
+        for (int a = 0; a < dim; ++a) {
+            if (domain.periodic(a)) {
+                lo[a] = domain.lo()[a];
+                hi[a] = domain.hi()[a];
+                continue;
+            }
+            std::optional<double> wl, wh;
+            for (const auto& w : walls)
+                if (w.axis() == a) (w.normal[a] > 0 ? wl : wh) = w.coordinate();
+            double pl = std::numeric_limits<double>::infinity(), ph = -pl;
+            for (std::size_t p = 0; p < size(); ++p) {
+                pl = std::min(pl, position[p][a] - radius[p]);
+                ph = std::max(ph, position[p][a] + radius[p]);
+            }
+            lo[a] = wl.value_or(pl);
+            hi[a] = wh.value_or(ph);
+        }
+        return {lo, hi};
+    }
+};
+
+namespace detail {
+template <int dim>
+ContactRecord<dim> pair_record(Index i, Index j, const Vec<dim>& ri, double ai, double aj, const Vec<dim>& branch,
+                               const Domain<dim>& domain) {
+    ContactRecord<dim> c;
+    c.i = i;
+    c.j = j;
+    const double dist = branch.norm();
+    c.normal = branch / dist;
+    c.branch = branch;
+    c.overlap = ai + aj - dist;
+    const double to_point = ai - 0.5 * c.overlap;  // the contact point halves the overlap
+    c.share_i = to_point / dist;
+    c.point = ri - to_point * c.normal;
+    domain.wrap(c.point);
+    return c;
+}
+}  // namespace detail
+
+/// The packing and contacts of a simulation at its present state (forces as for_each_contact
+/// reports them).
+template <class Sim>
+PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
+    constexpr int dim = Sim::dimension;
+    PackingSnapshot<dim> s;
+    s.domain = sim.domain();
+    const auto& p = sim.particles();
+    s.position = p.position();
+    s.velocity = p.velocity();
+    s.radius = p.radius();
+    s.mass = p.mass();
+    double kt = 0.0;
+    if constexpr (Sim::has_tangential) kt = sim.law().tangential.stiffness();
+    const double k = sim.law().normal.stiffness();
+    sim.for_each_contact([&](const ContactView<dim>& v) {
+        ContactRecord<dim> c;
+        if (v.wall) {
+            c.i = v.i;
+            c.j = v.j;
+            c.wall = true;
+            c.normal = v.geometry.normal;
+            c.branch = v.branch;
+            c.overlap = v.geometry.overlap;
+            c.point = s.position[v.i] - v.branch;
+            s.domain.wrap(c.point);
+            c.share_i = 1.0;
+        } else {
+            c = detail::pair_record<dim>(v.i, v.j, s.position[v.i], s.radius[v.i], s.radius[v.j], v.branch, s.domain);
+        }
+        c.normal_force = v.normal_force;
+        c.tangential_force = v.tangential_force;
+        c.k = k;
+        c.kt = kt;
+        c.sliding = v.sliding;
+        s.contacts.push_back(c);
+    });
+    if constexpr (Sim::has_walls)
+        for (const auto& w : sim.walls()) s.walls.push_back({w.normal, w.offset, w.force});
+    return s;
+}
+
+/// Finds the contacts of a packing given only positions and radii (overlap > 0) and gives them
+/// linear forces: f_n = k overlap, no tangential force, stiffnesses k and kt for the stiffness
+/// tensor. Wall contacts are not searched (a file packing has no walls).
+template <int dim>
+void detect_contacts(PackingSnapshot<dim>& s, double k, double kt) {
+    detail::require_positive(k, "k", "give the normal contact stiffness in N/m");
+    detail::require_non_negative(kt, "kt", "use 0 for frictionless contacts");
+    for (std::size_t p = 0; p < s.size(); ++p) {
+        for (int a = 0; a < dim; ++a)
+            if (!std::isfinite(s.position[p][a]))
+                detail::throw_input_error("particle ", p, ": position component ", a, " = ", s.position[p][a], " is not finite");
+        if (!(s.radius[p] > 0.0) || !std::isfinite(s.radius[p]))
+            detail::throw_input_error("particle ", p, ": radius = ", s.radius[p], " is invalid: it must be finite and > 0");
+    }
+    if (!s.radius.empty()) s.domain.check_interaction_range(2.0 * *std::max_element(s.radius.begin(), s.radius.end()));
+    std::vector<IndexPair> pairs;
+    LinkedCells().find_pairs(s.position, s.radius, s.domain, 0.0, pairs);
+    s.contacts.clear();
+    for (const auto [i, j] : pairs) {
+        const Vec<dim> branch = s.domain.separation(s.position[i], s.position[j]);
+        if (branch.squaredNorm() == 0.0)
+            detail::throw_input_error("particles ", i, " and ", j, " have coincident centres; the contact normal is undefined");
+        auto c = detail::pair_record<dim>(i, j, s.position[i], s.radius[i], s.radius[j], branch, s.domain);
+        c.normal_force = k * c.overlap;
+        c.k = k;
+        c.kt = kt;
+        s.contacts.push_back(c);
+    }
+}
+
+}  // namespace micromacro
