@@ -57,3 +57,52 @@ RandomPacking<dim> random_packing(std::size_t n, double a_min, double a_max, dou
 }
 
 }  // namespace mmtest
+
+namespace mmtest {
+
+/// Mean particle volume for radii uniform in [a_min, a_max] (midpoint rule, 1000 bins).
+template <int dim>
+double mean_particle_volume(double a_min, double a_max) {
+    double v = 0.0;
+    for (int b = 0; b < 1000; ++b) v += mm::DimTraits<dim>::particle_volume(a_min + (a_max - a_min) * (b + 0.5) / 1000) / 1000;
+    return v;
+}
+
+/// A static, confined packing: n paper particles (radii 0.5-1.5 mm, mu = 0.5, restitution 0.3)
+/// placed at random with overlaps at volume fraction nu in a cube, then relaxed with background
+/// damping until the kinetic energy is below 1e-7 of the elastic energy. `walled_axes` last axes
+/// carry two walls each; the others are periodic.
+template <int dim>
+mm::PackingSnapshot<dim> relaxed_packing(std::size_t n, double nu, unsigned seed, int walled_axes = 1, double mu = 0.5) {
+    const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / nu, 1.0 / dim);
+    auto p = random_packing<dim>(n, 0.5e-3, 1.5e-3, L, seed, true, true);
+    std::array<bool, dim> periodic;
+    for (int a = 0; a < dim; ++a) periodic[a] = a < dim - walled_axes;
+    mm::Walls<dim> walls;
+    for (int a = dim - walled_axes; a < dim; ++a) {
+        walls.add_axis_aligned(a, true, 0.0);
+        walls.add_axis_aligned(a, false, L);
+        for (std::size_t i = 0; i < p.x.size(); ++i)  // squeeze the centres inside the walls
+            p.x[i][a] = p.r[i] + 1e-9 + (L - 2 * p.r[i] - 2e-9) * p.x[i][a] / L;
+    }
+    const double m = mm::sphere_mass(rho, a_mean);
+    const double g0 = mm::damping_for_restitution(k, m / 2, 0.3);
+    const double tc = mm::contact_duration(k, g0, m / 2);
+    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, g0),
+                                   mu > 0 ? mm::CundallStrack(0.2 * k, 0.2 * g0, mu) : mm::CundallStrack(0.2 * k, 0.0, 0.0)};
+    const double gamma_b = 0.1 * m / tc;
+    mm::Simulation<dim, mm::FrictionalLinear, mm::Walls<dim>, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping> sim(
+        law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), walls, {}, {},
+        mm::BackgroundDamping(gamma_b, 0.4 * gamma_b * a_mean * a_mean));
+    for (std::size_t i = 0; i < p.x.size(); ++i) sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(rho, p.r[i]));
+    sim.set_time_step(tc / 50);
+    sim.prepare();
+    for (int chunk = 0; chunk < 400; ++chunk) {
+        sim.run(500);
+        const auto e = sim.energy();
+        if (e.kinetic() < 1e-7 * e.potential()) break;
+    }
+    return mm::take_snapshot(sim);
+}
+
+}  // namespace mmtest

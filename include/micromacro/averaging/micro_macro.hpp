@@ -88,32 +88,70 @@ Vec<dim> wrapped(const PackingSnapshot<dim>& s, Vec<dim> x) {
 }
 }  // namespace detail
 
+/// Which particles an average counts and how much of each contact.
+template <int dim>
+struct ContactWeights {
+    std::vector<char> inside;   ///< particle centre in the region
+    std::vector<char> rattler;  ///< fewer than dim + 1 contacts (iteratively)
+    std::vector<char> counted;  ///< contact counted at all (not a rattler's when those are excluded)
+    std::vector<double> branch; ///< w: weight of l (x) f and of the stiffness terms
+    std::vector<double> volume; ///< w_V: the fabric's volume weight
+};
+
+template <int dim>
+ContactWeights<dim> contact_weights(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt) {
+    ContactWeights<dim> cw;
+    cw.inside.resize(s.size());
+    for (std::size_t p = 0; p < s.size(); ++p) cw.inside[p] = region.contains(detail::wrapped(s, s.position[p]));
+    cw.rattler = detail::find_rattlers(s);
+    const std::size_t n = s.contacts.size();
+    cw.counted.assign(n, 1);
+    cw.branch.assign(n, 0.0);
+    cw.volume.assign(n, 0.0);
+    for (std::size_t q = 0; q < n; ++q) {
+        const auto& c = s.contacts[q];
+        if (opt.exclude_rattlers && (cw.rattler[c.i] || (!c.wall && cw.rattler[c.j]))) {
+            cw.counted[q] = 0;
+            continue;
+        }
+        const double vi = DimTraits<dim>::particle_volume(s.radius[c.i]);
+        const double vj = c.wall ? 0.0 : DimTraits<dim>::particle_volume(s.radius[c.j]);
+        if (opt.rule == SelectionRule::contact_point) {
+            const bool in = region.contains(c.point);
+            cw.branch[q] = in ? 1.0 : 0.0;
+            cw.volume[q] = in ? vi + vj : 0.0;
+        } else {
+            const bool in_i = cw.inside[c.i], in_j = !c.wall && cw.inside[c.j];
+            cw.branch[q] = (in_i ? c.share_i : 0.0) + (in_j ? 1.0 - c.share_i : 0.0);
+            cw.volume[q] = (in_i ? vi : 0.0) + (in_j ? vj : 0.0);
+        }
+    }
+    return cw;
+}
+
 template <int dim>
 MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt = {}) {
     MicroMacro<dim> out;
     out.volume = region.volume();
     const double V = out.volume;
-    std::vector<char> inside(s.size());
-    for (std::size_t p = 0; p < s.size(); ++p) inside[p] = region.contains(detail::wrapped(s, s.position[p]));
-    const std::vector<char> rattler = detail::find_rattlers(s);
-    auto excluded = [&](Index p) { return opt.exclude_rattlers && rattler[p]; };
+    const ContactWeights<dim> cw = contact_weights(s, region, opt);
 
     // Particles: count, volume fraction, kinetic stress, coordination.
     std::vector<int> contacts_of(s.size(), 0);
-    for (const auto& c : s.contacts) {
-        if (c.wall ? excluded(c.i) : (excluded(c.i) || excluded(c.j))) continue;
-        ++contacts_of[c.i];
-        if (!c.wall) ++contacts_of[c.j];
+    for (std::size_t q = 0; q < s.contacts.size(); ++q) {
+        if (!cw.counted[q]) continue;
+        ++contacts_of[s.contacts[q].i];
+        if (!s.contacts[q].wall) ++contacts_of[s.contacts[q].j];
     }
     double solid = 0.0, counted = 0.0, contact_sum = 0.0;
     for (std::size_t p = 0; p < s.size(); ++p) {
-        if (!inside[p]) continue;
+        if (!cw.inside[p]) continue;
         ++out.particles;
-        out.rattlers += rattler[p];
+        out.rattlers += cw.rattler[p];
         solid += DimTraits<dim>::particle_volume(s.radius[p]);
         if (opt.kinetic_stress && !s.velocity.empty())
             out.stress_kinetic += s.mass[p] * s.velocity[p] * s.velocity[p].transpose() / V;
-        if (excluded(p)) continue;
+        if (opt.exclude_rattlers && cw.rattler[p]) continue;
         counted += 1.0;
         contact_sum += contacts_of[p];
     }
@@ -122,20 +160,9 @@ MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region
 
     // Contacts.
     double weight_sum = 0.0, sliding_weight = 0.0;
-    for (const auto& c : s.contacts) {
-        if (c.wall ? excluded(c.i) : (excluded(c.i) || excluded(c.j))) continue;
-        const double vi = DimTraits<dim>::particle_volume(s.radius[c.i]);
-        const double vj = c.wall ? 0.0 : DimTraits<dim>::particle_volume(s.radius[c.j]);
-        double w, w_fabric;
-        if (opt.rule == SelectionRule::contact_point) {
-            const bool in = region.contains(c.point);
-            w = in ? 1.0 : 0.0;
-            w_fabric = in ? vi + vj : 0.0;
-        } else {
-            const bool in_i = inside[c.i], in_j = !c.wall && inside[c.j];
-            w = (in_i ? c.share_i : 0.0) + (in_j ? 1.0 - c.share_i : 0.0);
-            w_fabric = (in_i ? vi : 0.0) + (in_j ? vj : 0.0);
-        }
+    for (std::size_t q = 0; q < s.contacts.size(); ++q) {
+        const auto& c = s.contacts[q];
+        const double w = cw.branch[q], w_fabric = cw.volume[q];
         if (w == 0.0 && w_fabric == 0.0) continue;
         ++out.contacts;
         const Vec<dim>& n = c.normal;
@@ -154,8 +181,7 @@ MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region
     out.contact_number_density = out.fabric.trace();
     out.g2 = out.volume_fraction * out.coordination > 0 ? out.contact_number_density / (out.volume_fraction * out.coordination) : 0.0;
     out.fabric_deviator = deviator_magnitude<dim>(out.fabric);
-    const auto eig = principal<dim>(out.fabric);
-    out.fabric_axes = eig.eigenvectors();
+    out.fabric_axes = principal<dim>(out.fabric).eigenvectors();
     if constexpr (dim == 2) out.fabric_angle = major_axis_angle(out.fabric);
     out.stress = out.stress_normal + out.stress_tangential + out.stress_kinetic;
     out.pressure = out.stress.trace() / dim;

@@ -45,9 +45,11 @@ struct Region {
     }
 
     double volume() const { return (hi - lo).prod(); }
+    /// Closed box: a wall contact lies exactly on the boundary of the whole region and must count.
+    /// (Wrapped periodic points never reach hi, so a periodic contact is not counted twice.)
     bool contains(const Vec<dim>& x) const {
         for (int a = 0; a < dim; ++a)
-            if (!(x[a] >= lo[a] && x[a] < hi[a])) return false;
+            if (!(x[a] >= lo[a] && x[a] <= hi[a])) return false;
         return true;
     }
 };
