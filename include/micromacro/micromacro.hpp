@@ -23,3 +23,4 @@
 #include "micromacro/averaging/snapshot.hpp"
 #include "micromacro/averaging/tensor.hpp"
 #include "micromacro/averaging/affine_probe.hpp"
+#include "micromacro/averaging/coarse_graining.hpp"
