@@ -23,13 +23,16 @@ struct Region {
     }
     /// The packing without a layer of `margin` times its extent next to each non-periodic
     /// boundary (the paper leaves out 10% next to each wall).
-    static Region inner(const PackingSnapshot<dim>& s, double margin = 0.1) {
+    static Region inner(const PackingSnapshot<dim>& s, double margin = 0.1) { return whole(s).inner(s.domain, margin); }
+
+    /// This region without a layer of `margin` times its extent next to each non-periodic boundary.
+    Region inner(const Domain<dim>& domain, double margin) const {
         if (!(margin >= 0.0 && margin < 0.5))
             detail::throw_input_error("averaging margin = ", margin, " must be in [0, 0.5): it is the fraction of the box "
                                       "left out next to each wall");
-        Region r = whole(s);
+        Region r = *this;
         for (int a = 0; a < dim; ++a) {
-            if (s.domain.periodic(a)) continue;
+            if (domain.periodic(a)) continue;
             const double cut = margin * (r.hi[a] - r.lo[a]);
             r.lo[a] += cut;
             r.hi[a] -= cut;

@@ -1,0 +1,164 @@
+// analyze_packing: the micro-macro averages of a packing made by any code, as JSON.
+//
+//   analyze_packing packing.csv --k 1e5 --kt 2e4 --margin 0.1
+//   analyze_packing dump.lammps --dim 3 --periodic x,y,z
+//
+// Contacts are the overlapping pairs; their forces follow from the overlaps with the linear
+// normal spring k (no tangential force). Run with --help for every option.
+#include <cstdio>
+#include <fstream>
+#include <iostream>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include <micromacro/io/json.hpp>
+#include <micromacro/io/packing_files.hpp>
+#include <micromacro/micromacro.hpp>
+
+namespace mm = micromacro;
+
+namespace {
+struct Options {
+    std::string input, format, output, rule = "contact", periodic;
+    int dim = 0;
+    std::vector<double> box;
+    double k = 1e5, kt = 0.0, margin = 0.1;
+    bool exclude_rattlers = false;
+};
+
+bool looks_like_lammps(const std::string& path) {
+    std::ifstream in(path);
+    std::string first;
+    std::getline(in, first);
+    return first.rfind("ITEM:", 0) == 0;
+}
+
+int csv_dimension(const std::string& path) {
+    std::ifstream in(path);
+    std::string line;
+    while (std::getline(in, line))
+        if (!line.empty() && line[0] != '#' && line.find_first_not_of(" \t\r") != std::string::npos) {
+            for (const auto& name : mm::io::detail::split(line, ','))
+                if (name == "y") return 3;
+            return 2;
+        }
+    return 2;
+}
+
+mm::SelectionRule selection_rule(const std::string& rule) {
+    if (rule == "contact") return mm::SelectionRule::contact_point;
+    if (rule == "center" || rule == "centre") return mm::SelectionRule::particle_centre;
+    mm::detail::throw_input_error("--rule '", rule, "' is unknown; use contact or center");
+}
+
+template <int dim>
+nlohmann::ordered_json analyze(const Options& o, bool lammps) {
+    const auto file = lammps ? mm::io::read_lammps_dump<dim>(o.input) : mm::io::read_csv<dim>(o.input);
+
+    // Periodic axes: --periodic, else the dump's pp flags.
+    std::array<bool, dim> periodic = file.periodic;
+    if (!o.periodic.empty()) {
+        periodic.fill(false);
+        const std::string names = dim == 2 ? "xz" : "xyz";
+        for (char c : o.periodic) {
+            if (c == ',' || c == ' ') continue;
+            const auto axis = names.find(c);
+            if (axis == std::string::npos)
+                mm::detail::throw_input_error("--periodic: unknown axis '", std::string(1, c), "'; use ", names);
+            periodic[axis] = true;
+        }
+    }
+    // The box: --box, else the dump's box, else the particles' extent.
+    mm::Vec<dim> lo, hi;
+    if (!o.box.empty()) {
+        if (o.box.size() != 2 * dim)
+            mm::detail::throw_input_error("--box needs ", 2 * dim, " numbers (lo hi per axis), got ", o.box.size());
+        for (int a = 0; a < dim; ++a) {
+            lo[a] = o.box[2 * a];
+            hi[a] = o.box[2 * a + 1];
+        }
+    } else if (file.box) {
+        std::tie(lo, hi) = *file.box;
+    } else {
+        for (int a = 0; a < dim; ++a) {
+            if (periodic[a]) mm::detail::throw_input_error("a periodic axis needs the box: give --box");
+            lo[a] = hi[a] = file.position[0][a];
+            for (std::size_t p = 0; p < file.position.size(); ++p) {
+                lo[a] = std::min(lo[a], file.position[p][a] - file.radius[p]);
+                hi[a] = std::max(hi[a], file.position[p][a] + file.radius[p]);
+            }
+        }
+    }
+    mm::PackingSnapshot<dim> s;
+    s.domain = mm::Domain<dim>(lo, hi, periodic);
+    s.position = file.position;
+    s.radius = file.radius;
+    mm::detect_contacts(s, o.k, o.kt);
+
+    mm::AveragingOptions options;
+    options.rule = selection_rule(o.rule);
+    options.exclude_rattlers = o.exclude_rattlers;
+    const auto region = mm::Region<dim>::box(lo, hi).inner(s.domain, o.margin);
+    auto j = mm::io::to_json(mm::average(s, region, options));
+    j["region"] = {{"lo", mm::io::vector_json(region.lo)}, {"hi", mm::io::vector_json(region.hi)}};
+    j["rule"] = options.rule == mm::SelectionRule::contact_point ? "contact" : "center";
+    j["margin"] = o.margin;
+    j["k"] = o.k;
+    j["kt"] = o.kt;
+    return j;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    Options o;
+    CLI::App app{"micro-macro averages (fabric, stress, stiffness) of a packing, printed as JSON"};
+    app.add_option("packing", o.input, "CSV (header x,z,r in 2D or x,y,z,r in 3D; optional id) or LAMMPS dump")
+        ->required()
+        ->check(CLI::ExistingFile);
+    app.add_option("--format", o.format, "csv or lammps (default: guessed from the first line)")
+        ->check(CLI::IsMember({"csv", "lammps"}));
+    app.add_option("--dim", o.dim, "2 or 3 (default: CSV 3 if it has a y column, else 2; LAMMPS 3)")
+        ->check(CLI::IsMember({2, 3}));
+    app.add_option("--box", o.box, "bounds lo hi per axis, e.g. 0 0.09 0 0.09 (m; default: the dump's box, "
+                                   "else the particles' extent)")
+        ->expected(4, 6);
+    app.add_option("--periodic", o.periodic, "periodic axes, e.g. x,z (default: the dump's pp axes, else none)");
+    app.add_option("--k", o.k, "normal contact stiffness (N/m) for forces and the stiffness tensor")->capture_default_str();
+    app.add_option("--kt", o.kt, "tangential stiffness (N/m) for the tangential stiffness tensor")->capture_default_str();
+    app.add_option("--margin", o.margin, "fraction of the box left out next to each non-periodic boundary")
+        ->capture_default_str();
+    app.add_option("--rule", o.rule, "contact (contact point inside, Eq. 31) or center (particle centre inside, Eq. 10)")
+        ->capture_default_str();
+    app.add_flag("--exclude-rattlers", o.exclude_rattlers, "leave out particles with fewer than dim + 1 contacts");
+    app.add_option("--output,-o", o.output, "write the JSON here instead of standard output (written whole, then renamed)");
+    CLI11_PARSE(app, argc, argv);
+
+    try {
+        selection_rule(o.rule);  // refuse a bad option before reading anything
+        const bool lammps = o.format.empty() ? looks_like_lammps(o.input) : o.format == "lammps";
+        const int dim = o.dim ? o.dim : (lammps ? 3 : csv_dimension(o.input));
+        const auto json = dim == 2 ? analyze<2>(o, lammps) : analyze<3>(o, lammps);
+        const std::string text = json.dump(2) + "\n";
+        if (o.output.empty()) {
+            std::cout << text;
+        } else {
+            const std::string partial = o.output + ".partial";
+            {
+                std::ofstream out(partial);
+                if (!(out << text) || !(out.flush())) {
+                    std::remove(partial.c_str());
+                    mm::detail::throw_input_error("cannot write ", partial, "; check that the directory exists and is writable");
+                }
+            }
+            if (std::rename(partial.c_str(), o.output.c_str()) != 0)
+                mm::detail::throw_input_error("cannot rename ", partial, " to ", o.output);
+        }
+        return 0;
+    } catch (const std::exception& e) {
+        std::cerr << "analyze_packing: " << e.what() << "\n";
+        return 1;
+    }
+}

@@ -1,0 +1,239 @@
+#pragma once
+// Reading packings written by other codes: a CSV table of particles, or a LAMMPS dump. Every
+// error names the file and the line. Needs only the standard library (no VTK).
+//
+// CSV: a header line naming the columns, then one particle per line. 2D needs x, z and r
+// (the paper's coordinates), 3D needs x, y, z and r; `radius` may stand for r and `diameter`
+// for 2 r; an `id` column is optional; other columns are ignored. Blank lines and lines
+// starting with # are skipped.
+// LAMMPS: the first snapshot of a text dump: ITEM: BOX BOUNDS (orthogonal box; pp marks a
+// periodic axis) and ITEM: ATOMS with x y z and radius or diameter (2D uses x and y).
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <map>
+#include <numeric>
+#include <optional>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/error.hpp"
+
+namespace micromacro::io {
+
+template <int dim>
+struct PackingFile {
+    std::vector<Vec<dim>> position;
+    std::vector<double> radius;
+    std::vector<long long> id;      ///< from the id column, else 0, 1, 2, ...
+    std::vector<std::size_t> line;  ///< line of each particle in the file
+    std::optional<std::pair<Vec<dim>, Vec<dim>>> box;  ///< from the file (LAMMPS)
+    std::array<bool, dim> periodic{};                   ///< from the file (LAMMPS pp)
+};
+
+namespace detail {
+[[noreturn]] inline void fail(const std::string& path, std::size_t line, const std::string& what) {
+    micromacro::detail::throw_input_error(path, line ? ":" + std::to_string(line) : std::string(), ": ", what);
+}
+
+inline std::vector<std::string> split(const std::string& s, char sep) {
+    std::vector<std::string> out;
+    std::string field;
+    std::istringstream in(s);
+    if (sep == ' ') {
+        while (in >> field) out.push_back(field);
+    } else {
+        while (std::getline(in, field, sep)) {
+            const auto a = field.find_first_not_of(" \t\r"), b = field.find_last_not_of(" \t\r");
+            out.push_back(a == std::string::npos ? std::string() : field.substr(a, b - a + 1));
+        }
+        if (!s.empty() && s.back() == sep) out.emplace_back();
+    }
+    return out;
+}
+
+inline double number(const std::string& text, const std::string& path, std::size_t line, const std::string& column) {
+    errno = 0;
+    char* end = nullptr;
+    const double v = std::strtod(text.c_str(), &end);
+    if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
+        fail(path, line, "column '" + column + "': '" + text + "' is not a finite number");
+    return v;
+}
+
+inline std::ifstream open(const std::string& path) {
+    std::ifstream in(path);
+    if (!in) fail(path, 0, "cannot open the file for reading");
+    return in;
+}
+
+/// Rejects a file without particles and particles with identical centres (undefined normal).
+template <int dim>
+void check_particles(PackingFile<dim>& f, const std::string& path) {
+    if (f.position.empty()) fail(path, 0, "the file holds no particles");
+    // Identical centres: sort by position and compare neighbours.
+    std::vector<std::size_t> order(f.position.size());
+    std::iota(order.begin(), order.end(), 0);
+    auto key = [&](std::size_t i) {
+        std::array<double, dim> k;
+        for (int a = 0; a < dim; ++a) k[a] = f.position[i][a];
+        return k;
+    };
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
+    for (std::size_t q = 1; q < order.size(); ++q)
+        if (key(order[q]) == key(order[q - 1]))
+            fail(path, std::max(f.line[order[q]], f.line[order[q - 1]]),
+                 "particle has the same centre as the particle on line " +
+                     std::to_string(std::min(f.line[order[q]], f.line[order[q - 1]])) +
+                     "; the contact normal between them is undefined");
+}
+
+template <int dim>
+void add_particle(PackingFile<dim>& f, const std::vector<std::string>& fields, const std::array<int, dim>& columns,
+                  int radius_column, double radius_factor, int id_column, const std::vector<std::string>& names,
+                  const std::string& path, std::size_t line) {
+    Vec<dim> x;
+    for (int a = 0; a < dim; ++a) x[a] = number(fields[columns[a]], path, line, names[columns[a]]);
+    const double r = radius_factor * number(fields[radius_column], path, line, names[radius_column]);
+    if (!(r > 0.0)) fail(path, line, "radius " + fields[radius_column] + " is not positive; every particle needs a radius > 0");
+    f.position.push_back(x);
+    f.radius.push_back(r);
+    f.id.push_back(id_column >= 0 ? static_cast<long long>(number(fields[id_column], path, line, "id"))
+                                  : static_cast<long long>(f.id.size()));
+    f.line.push_back(line);
+}
+
+/// Finds the columns for the coordinates and the radius among `names`.
+template <int dim>
+void locate(const std::vector<std::string>& names, const std::array<const char*, dim>& coordinates,
+            std::array<int, dim>& columns, int& radius_column, double& radius_factor, int& id_column,
+            const std::string& path, std::size_t line) {
+    auto find = [&](const std::string& n) {
+        const auto it = std::find(names.begin(), names.end(), n);
+        return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+    };
+    for (int a = 0; a < dim; ++a) {
+        columns[a] = find(coordinates[a]);
+        if (columns[a] < 0) fail(path, line, std::string("missing column '") + coordinates[a] + "'");
+    }
+    radius_factor = 1.0;
+    radius_column = find("r");
+    if (radius_column < 0) radius_column = find("radius");
+    if (radius_column < 0) {
+        radius_column = find("diameter");
+        radius_factor = 0.5;
+    }
+    if (radius_column < 0) fail(path, line, "missing column 'r' (or 'radius' or 'diameter')");
+    id_column = find("id");
+}
+}  // namespace detail
+
+/// The coordinate columns of a CSV file for dimension dim.
+template <int dim>
+constexpr std::array<const char*, dim> csv_coordinates() {
+    if constexpr (dim == 2) return {"x", "z"};
+    else return {"x", "y", "z"};
+}
+
+template <int dim>
+PackingFile<dim> read_csv(const std::string& path) {
+    auto in = detail::open(path);
+    PackingFile<dim> f;
+    std::string text;
+    std::size_t line = 0;
+    std::vector<std::string> names;
+    std::array<int, dim> columns{};
+    int radius_column = -1, id_column = -1;
+    double radius_factor = 1.0;
+    while (std::getline(in, text)) {
+        ++line;
+        if (!text.empty() && text.back() == '\r') text.pop_back();
+        if (text.find_first_not_of(" \t") == std::string::npos || text[text.find_first_not_of(" \t")] == '#') continue;
+        const auto fields = detail::split(text, ',');
+        if (names.empty()) {
+            names = fields;
+            detail::locate<dim>(names, csv_coordinates<dim>(), columns, radius_column, radius_factor, id_column, path, line);
+            continue;
+        }
+        if (fields.size() != names.size())
+            detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(names.size()));
+        detail::add_particle<dim>(f, fields, columns, radius_column, radius_factor, id_column, names, path, line);
+    }
+    if (names.empty()) detail::fail(path, 0, "the file is empty (no header line)");
+    detail::check_particles(f, path);
+    return f;
+}
+
+template <int dim>
+PackingFile<dim> read_lammps_dump(const std::string& path) {
+    auto in = detail::open(path);
+    PackingFile<dim> f;
+    std::string text;
+    std::size_t line = 0, expected = 0;
+    bool have_count = false, in_atoms = false;
+    std::vector<std::string> names;
+    std::array<int, dim> columns{};
+    int radius_column = -1, id_column = -1;
+    double radius_factor = 1.0;
+    auto next = [&] {
+        if (!std::getline(in, text)) detail::fail(path, line, "the file ends early");
+        ++line;
+        if (!text.empty() && text.back() == '\r') text.pop_back();
+    };
+    while (std::getline(in, text)) {
+        ++line;
+        if (!text.empty() && text.back() == '\r') text.pop_back();
+        if (text.rfind("ITEM:", 0) == 0) {
+            if (in_atoms) break;  // the next snapshot: only the first is read
+            if (text.rfind("ITEM: NUMBER OF ATOMS", 0) == 0) {
+                next();
+                expected = static_cast<std::size_t>(detail::number(detail::split(text, ' ').at(0), path, line, "number of atoms"));
+                have_count = true;
+            } else if (text.rfind("ITEM: BOX BOUNDS", 0) == 0) {
+                const auto flags = detail::split(text.substr(16), ' ');
+                if (flags.size() > 3 || (!flags.empty() && flags[0] == "xy"))
+                    detail::fail(path, line, "triclinic boxes are not supported");
+                Vec<dim> lo, hi;
+                for (int a = 0; a < 3; ++a) {
+                    next();
+                    const auto b = detail::split(text, ' ');
+                    if (b.size() < 2) detail::fail(path, line, "a box bound line needs two numbers");
+                    if (a < dim) {
+                        lo[a] = detail::number(b[0], path, line, "box lo");
+                        hi[a] = detail::number(b[1], path, line, "box hi");
+                        f.periodic[a] = a < static_cast<int>(flags.size()) && flags[a] == "pp";
+                    }
+                }
+                f.box = std::pair{lo, hi};
+            } else if (text.rfind("ITEM: ATOMS", 0) == 0) {
+                names = detail::split(text.substr(11), ' ');
+                const std::array<const char*, 3> xyz{"x", "y", "z"};
+                std::array<const char*, dim> coordinates;
+                for (int a = 0; a < dim; ++a) coordinates[a] = xyz[a];
+                detail::locate<dim>(names, coordinates, columns, radius_column, radius_factor, id_column, path, line);
+                in_atoms = true;
+            }
+            continue;
+        }
+        if (!in_atoms) continue;
+        if (text.find_first_not_of(" \t") == std::string::npos) continue;
+        const auto fields = detail::split(text, ' ');
+        if (fields.size() != names.size())
+            detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, ITEM: ATOMS names " + std::to_string(names.size()));
+        detail::add_particle<dim>(f, fields, columns, radius_column, radius_factor, id_column, names, path, line);
+    }
+    if (line == 0) detail::fail(path, 0, "the file is empty");
+    if (!in_atoms) detail::fail(path, line, "no ITEM: ATOMS section: not a LAMMPS dump");
+    if (have_count && f.position.size() != expected)
+        detail::fail(path, line, "ITEM: NUMBER OF ATOMS says " + std::to_string(expected) + ", the file holds " +
+                                     std::to_string(f.position.size()));
+    detail::check_particles(f, path);
+    return f;
+}
+
+}  // namespace micromacro::io

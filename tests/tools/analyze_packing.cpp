@@ -1,0 +1,170 @@
+// The packing analyser end to end: the same packing as CSV and as a LAMMPS dump gives identical
+// JSON, the JSON carries the exact lattice values, and every bad input gets a message naming the
+// file and line with a non-zero exit.
+#define BOOST_TEST_MODULE tools_analyze_packing
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <iomanip>
+#include <sstream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/scenes.hpp"
+
+using namespace mmtest;
+namespace fs = std::filesystem;
+
+namespace {
+struct Result {
+    int status;
+    std::string out, err;
+};
+
+const fs::path work = fs::temp_directory_path() / "micromacro_analyze_packing_test";
+
+Result run(const std::string& args) {
+    fs::create_directories(work);
+    const auto out = work / "stdout.txt", err = work / "stderr.txt";
+    const std::string command = std::string(ANALYZE_PACKING) + " " + args + " > " + out.string() + " 2> " + err.string();
+    const int status = std::system(command.c_str());
+    auto slurp = [](const fs::path& p) {
+        std::ifstream in(p);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    };
+    return {status, slurp(out), slurp(err)};
+}
+
+std::string write(const std::string& name, const std::string& text) {
+    fs::create_directories(work);
+    const auto p = work / name;
+    std::ofstream(p) << text;
+    return p.string();
+}
+
+std::string num(double v) {
+    std::ostringstream s;
+    s << std::setprecision(17) << v;
+    return s.str();
+}
+
+// A packing as a CSV file and as a LAMMPS dump with the given periodic box.
+template <int dim>
+std::pair<std::string, std::string> both_files(const RandomPacking<dim>& p, double L, const std::string& stem) {
+    std::ostringstream csv, dump;
+    csv << (dim == 2 ? "id,x,z,r\n" : "id,x,y,z,r\n");
+    dump << "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n" << p.x.size() << "\nITEM: BOX BOUNDS pp pp pp\n";
+    for (int a = 0; a < 3; ++a) dump << "0 " << (a < dim ? num(L) : "1") << "\n";
+    dump << "ITEM: ATOMS id type x y z diameter\n";
+    for (std::size_t i = 0; i < p.x.size(); ++i) {
+        csv << i + 1;
+        dump << i + 1 << " 1";
+        for (int a = 0; a < dim; ++a) {
+            csv << "," << num(p.x[i][a]);
+            dump << " " << num(p.x[i][a]);
+        }
+        if (dim == 2) dump << " 0";
+        csv << "," << num(p.r[i]) << "\n";
+        dump << " " << num(2 * p.r[i]) << "\n";
+    }
+    return {write(stem + ".csv", csv.str()), write(stem + ".dump", dump.str())};
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(csv_and_lammps_agree, D, Dims) {
+    constexpr int dim = D::value;
+    const double L = dim == 2 ? 0.03 : 0.01;
+    // Diameters exactly twice radii in binary: radii that are multiples of 2^-20 m.
+    auto p = random_packing<dim>(300, 0.5e-3, 1.5e-3, L, 21, true, true);
+    for (auto& r : p.r) r = std::ldexp(std::round(std::ldexp(r, 20)), -20);
+    const auto [csv, dump] = both_files<dim>(p, L, "packing" + std::to_string(dim));
+    std::string box;
+    for (int a = 0; a < dim; ++a) box += " 0 " + num(L);
+    const std::string axes = dim == 2 ? "x,z" : "x,y,z";
+    for (std::string rule : {"contact", "center"}) {
+        const std::string common = " --k 1e5 --kt 2e4 --rule " + rule;
+        const auto from_csv = run(csv + " --box" + box + " --periodic " + axes + common);
+        const auto from_dump = run(dump + " --dim " + std::to_string(dim) + common);
+        BOOST_TEST_REQUIRE(from_csv.status == 0, from_csv.err);
+        BOOST_TEST_REQUIRE(from_dump.status == 0, from_dump.err);
+        BOOST_TEST(from_csv.out == from_dump.out);
+        // And the same numbers as the library in-process.
+        mm::PackingSnapshot<dim> s;
+        s.domain = periodic_box<dim>(L);
+        s.position = p.x;
+        s.radius = p.r;
+        mm::detect_contacts(s, 1e5, 2e4);
+        mm::AveragingOptions o;
+        o.rule = rule == "contact" ? mm::SelectionRule::contact_point : mm::SelectionRule::particle_centre;
+        const auto m = mm::average(s, mm::Region<dim>::whole(s), o);
+        const nlohmann::json j = nlohmann::json::parse(from_csv.out);
+        BOOST_TEST(j["dim"] == dim);
+        BOOST_TEST(j["contacts"].get<std::size_t>() == m.contacts);
+        BOOST_TEST(j["stress"][0][0].get<double>() == m.stress(0, 0));
+        BOOST_TEST(j["stiffness_normal"][0][0][1][1].get<double>() == m.stiffness_normal(0, 0, 1, 1));
+        BOOST_TEST(j["stiffness_tangential"][0][1][0][1].get<double>() == m.stiffness_tangential(0, 1, 0, 1));
+        BOOST_TEST(j["g2"].get<double>() == m.g2);
+    }
+}
+
+// The triangular lattice through the file route: C_1111 = 3 sqrt(3)/4 k, C_1122 = sqrt(3)/4 k.
+BOOST_AUTO_TEST_CASE(lattice_values_in_json) {
+    const double l = 2e-3, h = std::sqrt(3.0) * l, k_file = 1e5;
+    std::ostringstream csv;
+    csv << "x,z,r\n";
+    for (int i = 0; i < 6; ++i)
+        for (int j = 0; j < 3; ++j) {
+            csv << num(i * l) << "," << num(j * h) << "," << num(0.5 * l * (1 + 1e-13)) << "\n";
+            csv << num((i + 0.5) * l) << "," << num((j + 0.5) * h) << "," << num(0.5 * l * (1 + 1e-13)) << "\n";
+        }
+    const auto file = write("triangular.csv", csv.str());
+    const auto r = run(file + " --box 0 " + num(6 * l) + " 0 " + num(3 * h) + " --periodic x,z");
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const auto j = nlohmann::json::parse(r.out);
+    BOOST_TEST(std::abs(j["stiffness_normal"][0][0][0][0].get<double>() / (3 * std::sqrt(3.0) / 4 * k_file) - 1) < 1e-10);
+    BOOST_TEST(std::abs(j["stiffness_normal"][0][0][1][1].get<double>() / (std::sqrt(3.0) / 4 * k_file) - 1) < 1e-10);
+    BOOST_TEST(std::abs(j["coordination"].get<double>() - 6.0) < 1e-15);
+    BOOST_TEST(std::abs(j["contact_number_density"].get<double>() - 6 * j["volume_fraction"].get<double>()) < 1e-10);
+}
+
+BOOST_AUTO_TEST_CASE(bad_inputs_name_file_and_line) {
+    struct Case {
+        std::string name, text, args, expect;
+    };
+    const Case cases[] = {
+        {"missing.csv", "x,r\n0,1\n", "", "missing.csv:1: missing column 'z'"},
+        {"text.csv", "x,z,r\n0,0,1e-3\n0.1,abc,1e-3\n", "", "text.csv:3: column 'z': 'abc' is not a finite number"},
+        {"negative.csv", "x,z,r\n0,0,1e-3\n# comment\n0.1,0,-1e-3\n", "", "negative.csv:4: radius -1e-3 is not positive"},
+        {"empty.csv", "", "", "empty.csv: the file is empty"},
+        {"header_only.csv", "x,z,r\n", "", "header_only.csv: the file holds no particles"},
+        {"same.csv", "x,z,r\n0,0,1e-3\n1,1,1e-3\n0,0,2e-3\n", "", "same.csv:4: particle has the same centre as the particle on line 2"},
+        {"short.csv", "x,z,r\n0,0\n", "", "short.csv:2: has 2 fields, the header has 3"},
+        {"count.dump", "ITEM: NUMBER OF ATOMS\n2\nITEM: BOX BOUNDS ff ff ff\n0 1\n0 1\n0 1\nITEM: ATOMS id x y z radius\n1 0.5 0.5 0.5 0.1\n",
+         "", "count.dump:8: ITEM: NUMBER OF ATOMS says 2, the file holds 1"},
+        {"noatoms.dump", "ITEM: TIMESTEP\n0\n", "--format lammps", "noatoms.dump:2: no ITEM: ATOMS section"},
+        {"ok.csv", "x,z,r\n0,0,1e-3\n", "--rule nearest", "--rule 'nearest' is unknown"},
+        {"ok2.csv", "x,z,r\n0,0,1e-3\n", "--periodic q --box 0 1 0 1", "--periodic: unknown axis 'q'"},
+    };
+    for (const auto& c : cases) {
+        const auto path = write(c.name, c.text);
+        const auto r = run(path + " " + c.args);
+        BOOST_TEST(r.status != 0, c.name);
+        BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.name << ": stderr was '" << r.err << "'");
+        BOOST_TEST(r.out.empty(), c.name << ": no partial output");
+    }
+    const auto unknown = run(write("ok3.csv", "x,z,r\n0,0,1e-3\n") + " --frobnicate");
+    BOOST_TEST(unknown.status != 0);
+    BOOST_TEST(unknown.err.find("frobnicate") != std::string::npos);
+    // --output writes the whole file or nothing.
+    const auto out = (work / "result.json").string();
+    fs::remove(out);
+    BOOST_TEST(run(write("ok4.csv", "x,z,r\n0,0,1e-3\n2e-3,0,1e-3\n") + " -o " + out).status == 0);
+    BOOST_TEST(nlohmann::json::parse(std::ifstream(out))["particles"].get<int>() >= 0);
+    BOOST_TEST(run(write("ok5.csv", "x,z,r\n0,0,1e-3\n") + " -o /nonexistent/dir/result.json").status != 0);
+}
