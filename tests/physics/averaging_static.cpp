@@ -100,6 +100,43 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(affine_probe_matches_stiffness, D, Dims) {
     BOOST_TEST((r.stress_change - r.predicted).norm() < 1e-6 * r.predicted.norm());
 }
 
+// The probe with relaxation. A Bravais lattice deforms affinely, so relaxing changes nothing
+// (ratio 1); a disordered packing relaxes non-affinely and the affine response is an upper
+// bound (Voigt): 0 < ratio <= 1.
+BOOST_AUTO_TEST_CASE_TEMPLATE(relaxed_probe, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    V diagonal;
+    for (int a = 0; a < dim; ++a) diagonal[a] = 1e-4 * (1.0 + 0.5 * a);
+    const mm::Tensor2<dim> eps = diagonal.asDiagonal();
+    {
+        const double l = 2e-3, a = 0.5 * l * 1.01;  // prestressed: overlap 1% of l
+        mm::Simulation<dim, mm::FrictionalLinear, mm::NoWalls, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping> sim(
+            mm::FrictionalLinear{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)},
+            periodic_box<dim>(5 * l), {}, {}, {}, mm::BackgroundDamping(1e-3, 1e-10));
+        for (int t = 0; t < (dim == 2 ? 25 : 125); ++t) {
+            V x;
+            for (int d = 0, u = t; d < dim; ++d, u /= 5) x[d] = (u % 5 + 0.5) * l;
+            sim.particles().add(x, a, mm::sphere_mass(rho, a));
+        }
+        sim.set_time_step(mm::contact_duration(k, gamma0, mm::sphere_mass(rho, a) / 2) / 50);
+        const auto r = mm::relaxed_response(sim, eps, 0.0);
+        BOOST_TEST_MESSAGE(dim << "D lattice: ratio " << r.ratio << " after " << r.relaxation_steps << " steps");
+        BOOST_TEST(std::abs(r.ratio - 1.0) < 1e-9);
+        BOOST_TEST((r.relaxed_change - r.affine_change).norm() < 1e-9 * r.affine_change.norm());
+    }
+    {
+        auto sim = relaxed_simulation<dim>(600, nu_dense<dim>(), 5);
+        const auto r = mm::relaxed_response(sim, eps);
+        BOOST_TEST_MESSAGE(dim << "D disordered: affine/predicted " << (r.affine_change.cwiseProduct(eps)).sum() /
+                                                                          (r.predicted.cwiseProduct(eps)).sum()
+                               << ", relaxed/affine ratio " << r.ratio << " after " << r.relaxation_steps << " steps");
+        BOOST_TEST(r.ratio > 0.0);
+        BOOST_TEST(r.ratio <= 1.0);
+        BOOST_TEST(r.relaxation_steps > 0u);
+    }
+}
+
 // Rotating the packing rotates F and sigma as rank-2 and C as rank-4 tensors; renumbering the
 // particles changes nothing; a periodic packing doubled along an axis has the same averages.
 BOOST_AUTO_TEST_CASE_TEMPLATE(invariances, D, Dims) {

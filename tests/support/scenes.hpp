@@ -73,7 +73,7 @@ double mean_particle_volume(double a_min, double a_max) {
 /// damping until the kinetic energy is below 1e-7 of the elastic energy. `walled_axes` last axes
 /// carry two walls each; the others are periodic.
 template <int dim>
-mm::PackingSnapshot<dim> relaxed_packing(std::size_t n, double nu, unsigned seed, int walled_axes = 1, double mu = 0.5) {
+auto relaxed_simulation(std::size_t n, double nu, unsigned seed, int walled_axes = 1, double mu = 0.5) {
     const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / nu, 1.0 / dim);
     auto p = random_packing<dim>(n, 0.5e-3, 1.5e-3, L, seed, true, true);
     std::array<bool, dim> periodic;
@@ -102,7 +102,12 @@ mm::PackingSnapshot<dim> relaxed_packing(std::size_t n, double nu, unsigned seed
         const auto e = sim.energy();
         if (e.kinetic() < 1e-7 * e.potential()) break;
     }
-    return mm::take_snapshot(sim);
+    return sim;
+}
+
+template <int dim>
+mm::PackingSnapshot<dim> relaxed_packing(std::size_t n, double nu, unsigned seed, int walled_axes = 1, double mu = 0.5) {
+    return mm::take_snapshot(relaxed_simulation<dim>(n, nu, seed, walled_axes, mu));
 }
 
 }  // namespace mmtest

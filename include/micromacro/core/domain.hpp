@@ -7,6 +7,8 @@
 #include <array>
 #include <cmath>
 
+#include <Eigen/Core>
+
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/error.hpp"
 
@@ -45,6 +47,15 @@ public:
     const V& lo() const { return lo_; }
     const V& hi() const { return hi_; }
     double length(int axis) const { return hi_[axis] - lo_[axis]; }
+
+    /// The box mapped by the diagonal deformation x -> F x (a periodic box cannot be sheared).
+    Domain deformed(const Eigen::Matrix<double, dim, dim>& F) const {
+        if (!any_periodic()) return *this;
+        if (!F.isDiagonal(0.0))
+            detail::throw_input_error("a periodic box can only be stretched along its axes; the deformation has "
+                                      "off-diagonal entries (shear needs Lees-Edwards boundaries, not supported)");
+        return Domain(V(F * lo_), V(F * hi_), periodic_);
+    }
 
     /// Separation a - b, shortened to the nearest periodic image on periodic axes.
     V separation(const V& a, const V& b) const {

@@ -13,6 +13,7 @@ struct EnergyBooks {
     double dissipated_background = 0;  ///< background damping (Eq. 30), both kinds
     double dissipated_walls = 0;       ///< damping of stress-controlled walls (gamma_w)
     double work_by_walls = 0;          ///< done on the system by moving walls and wall pressure
+    double work_by_deformation = 0;    ///< energy put in by imposed affine deformations
 
     /// Adds the mean of two evaluations' bookings (trapezoid rule).
     void add_mean(const EnergyBooks& a, const EnergyBooks& b) {
@@ -22,7 +23,10 @@ struct EnergyBooks {
         dissipated_background += 0.5 * (a.dissipated_background + b.dissipated_background);
         dissipated_walls += 0.5 * (a.dissipated_walls + b.dissipated_walls);
         work_by_walls += 0.5 * (a.work_by_walls + b.work_by_walls);
+        work_by_deformation += 0.5 * (a.work_by_deformation + b.work_by_deformation);
     }
+
+    double work_in() const { return work_by_walls + work_by_deformation; }
 
     double dissipated() const {
         return dissipated_normal + dissipated_tangential + dissipated_sliding + dissipated_background +

@@ -162,11 +162,7 @@ public:
             initial_energy_ = track_energy_ ? energy().total() : 0.0;
             books_ = {};  // the first evaluation only opens the books
         } else {
-            // Re-prepared mid-run (new dt, new particles): the same state evaluated again adds
-            // nothing to the books, it only restarts the trapezoid with the new step.
-            const EnergyBooks kept = books_;
-            compute_forces();
-            books_ = kept;
+            compute_forces_without_books();
         }
         prepared_ = true;
     }
@@ -279,8 +275,8 @@ public:
     /// kinetic + potential + dissipated - work_in - initial, relative to the initial energy
     /// (or to the work put in, if that is larger). Needs energy tracking.
     double energy_residual() const {
-        const double now = energy().total() + books_.dissipated() - books_.work_by_walls;
-        const double scale = std::max({std::abs(initial_energy_), std::abs(books_.work_by_walls),
+        const double now = energy().total() + books_.dissipated() - books_.work_in();
+        const double scale = std::max({std::abs(initial_energy_), std::abs(books_.work_in()),
                                        std::numeric_limits<double>::min()});
         return (now - initial_energy_) / scale;
     }
@@ -322,6 +318,49 @@ public:
                 f(view(i, w, true, wall.normal, r[i] - s, V(s * wall.normal), wall_relative_velocity(i, wall),
                        history_of(wall_contacts_, c)));
             }
+    }
+
+    /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes),
+    /// a periodic box (diagonal F only), and every tangential spring, which takes up the
+    /// tangential part of its contact's branch change as if the partners had moved there.
+    /// Velocities are kept. Used by quasi-static strain steps and the relaxed affine probe.
+    void deform_affinely(const Eigen::Matrix<double, dim, dim>& F) {
+        if (!prepared_) prepare();
+        const double energy_before = track_energy_ ? energy().total() : 0.0;
+        const Domain<dim> deformed = domain_.deformed(F);
+        auto& x = particles_.template get<field::Position>();
+        if constexpr (has_tangential) {
+            auto load = [&](History& h, const V& l) {
+                const V n = l.normalized(), moved = F * l - l;
+                h.spring += moved - n * n.dot(moved);
+            };
+            for (std::size_t c = 0; c < pairs_.size(); ++c) {
+                const auto [i, j] = pairs_.pairs()[c];
+                load(pairs_.history(c), domain_.separation(x[i], x[j]));
+            }
+            if constexpr (has_walls)
+                for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
+                    const auto [i, w] = wall_contacts_.pairs()[c];
+                    load(wall_contacts_.history(c), V(walls_[w].distance(x[i]) * walls_[w].normal));
+                }
+        }
+        if constexpr (has_walls) {
+            const Eigen::Matrix<double, dim, dim> normal_map = F.inverse().transpose();
+            for (auto& w : walls_) {
+                const V point = F * (w.offset * w.normal);
+                w.normal = (normal_map * w.normal).normalized();
+                w.offset = w.normal.dot(point);
+                w.initial_offset = w.offset;
+            }
+        }
+        for (auto& p : x) {
+            p = F * p;
+            deformed.wrap(p);
+        }
+        domain_ = deformed;
+        rebuild_neighbors();
+        compute_forces_without_books();
+        if (track_energy_) books_.work_by_deformation += energy().total() - energy_before;  // done instantly, no loss
     }
 
     std::size_t contact_count() const {
@@ -407,6 +446,14 @@ private:
         }
         std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, step_books_, dt_), ...); }, body_forces_);
         if constexpr (track) close_step_books();
+    }
+
+    // Re-evaluates the forces of a state the books have not seen move (a re-prepare, an imposed
+    // deformation): it adds nothing to the books, it only restarts the trapezoid.
+    void compute_forces_without_books() {
+        const EnergyBooks kept = books_;
+        compute_forces();
+        books_ = kept;
     }
 
     // What an evaluation's forces dissipate, rate x dt, is booked half now and half at the next
