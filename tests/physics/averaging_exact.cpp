@@ -189,3 +189,65 @@ BOOST_AUTO_TEST_CASE(stiffness_identities_2d) {
         BOOST_TEST(std::abs(N(0, 0, 0, 1)) > 1e-6 * scale);  // odd entries present: a real test of the signs
     }
 }
+
+// Rattlers: particles with fewer than dim + 1 contacts, found repeatedly. A square lattice (4
+// contacts each, l = 2 mm) with two extra particles in one cell: A touches the two lower sites
+// of the cell and B, B touches only A. B is a rattler at once; without B, A has two contacts and
+// becomes one too. Excluding both leaves the lattice's coordination 4.
+BOOST_AUTO_TEST_CASE(rattlers_are_found_iteratively) {
+    const double l = 2e-3;
+    auto s = lattice<2>({{0, 0}}, {l, l}, 4, l);  // 16 particles, 32 contacts
+    const mm::Vec<2> corner = s.position[0];
+    s.position.push_back(corner + mm::Vec<2>(1e-3, 0.8e-3));  // A: 1.2806 mm from both lower sites
+    s.radius.push_back(0.3e-3);
+    s.position.push_back(corner + mm::Vec<2>(1e-3, 1.1999e-3));  // B: just touching A
+    s.radius.push_back(0.1e-3);
+    mm::detect_contacts(s, k, 0.0);
+    BOOST_TEST_REQUIRE(s.contacts.size() == 35u);
+    mm::AveragingOptions keep, drop;
+    drop.exclude_rattlers = true;
+    const auto all = mm::average(s, mm::Region<2>::whole(s), keep);
+    const auto without = mm::average(s, mm::Region<2>::whole(s), drop);
+    BOOST_TEST(all.rattlers == 2u);
+    BOOST_TEST(without.rattlers == 2u);
+    BOOST_TEST(std::abs(all.coordination - 2.0 * 35 / 18) < 1e-12);  // every contact, every particle
+    BOOST_TEST(std::abs(without.coordination - 4.0) < 1e-12);        // the lattice alone
+    BOOST_TEST(without.contacts == 32u);
+}
+
+// The kinetic stress is 1/V sum m v (x) v over the particles inside; the sliding option removes
+// exactly the sliding contacts from C^t and reports their weighted fraction.
+BOOST_AUTO_TEST_CASE_TEMPLATE(kinetic_stress_and_sliding_contacts, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    const double l = 2e-3;
+    auto s = lattice<dim>({V::Zero()}, V::Constant(l), 4, l, 0.2 * k);
+    s.mass.assign(s.size(), 0.0);
+    s.velocity.assign(s.size(), V::Zero());
+    s.mass[3] = 2.0;
+    s.velocity[3] = V::Constant(0.5);
+    s.mass[7] = 3.0;
+    s.velocity[7][0] = -1.0;
+    mm::AveragingOptions o;
+    o.kinetic_stress = true;
+    const auto m = mm::average(s, mm::Region<dim>::whole(s), o);
+    const mm::Tensor2<dim> expected = (2.0 * V::Constant(0.5) * V::Constant(0.5).transpose() +
+                                       3.0 * V::UnitX() * V::UnitX().transpose()) / m.volume;
+    BOOST_TEST((m.stress_kinetic - expected).norm() < 1e-14 * expected.norm());
+
+    for (std::size_t q = 0; q < s.contacts.size(); q += 3) s.contacts[q].sliding = true;
+    std::size_t sliding = 0;
+    mm::Tensor4<dim> removed;
+    for (std::size_t q = 0; q < s.contacts.size(); q += 3) {
+        ++sliding;
+        removed.add_tangential(s.contacts[q].kt * s.contacts[q].branch.squaredNorm() / m.volume, s.contacts[q].normal);
+    }
+    mm::AveragingOptions x;
+    x.exclude_sliding_from_tangential_stiffness = true;
+    const auto all = mm::average(s, mm::Region<dim>::whole(s));
+    const auto elastic = mm::average(s, mm::Region<dim>::whole(s), x);
+    BOOST_TEST(std::abs(all.sliding_fraction - double(sliding) / s.contacts.size()) < 1e-15);
+    BOOST_TEST((all.stiffness_tangential.matrix() - elastic.stiffness_tangential.matrix() - removed.matrix()).norm() <
+               1e-12 * all.stiffness_tangential.matrix().norm());
+    BOOST_TEST((all.stiffness_normal.matrix() - elastic.stiffness_normal.matrix()).norm() == 0.0);
+}
