@@ -3,11 +3,13 @@
 //   analyze_packing packing.csv --k 1e5 --kt 2e4 --margin 0.1
 //   analyze_packing dump.lammps --dim 3 --periodic x,y,z
 //
-// Contacts are the overlapping pairs; their forces follow from the overlaps with the linear
-// normal spring k (no tangential force). Run with --help for every option.
+// Contacts are the overlapping pairs; their normal forces follow from the overlaps with the
+// linear spring k, tangential forces come from an optional contact-force file. Run with --help
+// for every option.
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -22,7 +24,7 @@ namespace mm = micromacro;
 
 namespace {
 struct Options {
-    std::string input, format, output, rule = "contact", periodic;
+    std::string input, format, output, rule = "contact", periodic, contact_forces;
     int dim = 0;
     std::vector<double> box;
     double k = 1e5, kt = 0.0, margin = 0.1;
@@ -46,6 +48,29 @@ int csv_dimension(const std::string& path) {
             return 2;
         }
     return 2;
+}
+
+/// Gives the detected contacts the tangential forces of a contact-force file (projected into
+/// each contact's tangent plane); a listed pair that does not overlap is an error.
+template <int dim>
+void add_tangential_forces(mm::PackingSnapshot<dim>& s, const mm::io::PackingFile<dim>& file, const std::string& path) {
+    std::map<long long, mm::Index> index;
+    for (std::size_t p = 0; p < file.id.size(); ++p) index[file.id[p]] = static_cast<mm::Index>(p);
+    std::map<std::pair<mm::Index, mm::Index>, std::size_t> contact;
+    for (std::size_t q = 0; q < s.contacts.size(); ++q) contact[{s.contacts[q].i, s.contacts[q].j}] = q;
+    for (const auto& r : mm::io::read_contact_forces<dim>(path)) {
+        const auto i = index.find(r.i), j = index.find(r.j);
+        if (i == index.end() || j == index.end())
+            mm::io::detail::fail(path, r.line, "particle id " + std::to_string(i == index.end() ? r.i : r.j) + " is not in the packing");
+        const bool swapped = i->second > j->second;
+        const auto c = contact.find(swapped ? std::pair{j->second, i->second} : std::pair{i->second, j->second});
+        if (c == contact.end())
+            mm::io::detail::fail(path, r.line, "particles " + std::to_string(r.i) + " and " + std::to_string(r.j) +
+                                                  " do not overlap, so they have no contact to carry a force");
+        auto& record = s.contacts[c->second];
+        const mm::Vec<dim> f = swapped ? mm::Vec<dim>(-r.tangential_force) : r.tangential_force;
+        record.tangential_force = f - record.normal * record.normal.dot(f);
+    }
 }
 
 mm::SelectionRule selection_rule(const std::string& rule) {
@@ -97,6 +122,7 @@ nlohmann::ordered_json analyze(const Options& o, bool lammps) {
     s.position = file.position;
     s.radius = file.radius;
     mm::detect_contacts(s, o.k, o.kt);
+    if (!o.contact_forces.empty()) add_tangential_forces(s, file, o.contact_forces);
 
     mm::AveragingOptions options;
     options.rule = selection_rule(o.rule);
@@ -132,6 +158,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--rule", o.rule, "contact (contact point inside, Eq. 31) or center (particle centre inside, Eq. 10)")
         ->capture_default_str();
+    app.add_option("--contact-forces", o.contact_forces,
+                   "CSV of tangential contact forces: columns i, j (particle ids) and ft_x, ft_z (2D) or ft_x, ft_y, "
+                   "ft_z (3D), the force on i from j (N); without it contacts carry normal forces only")
+        ->check(CLI::ExistingFile);
     app.add_flag("--exclude-rattlers", o.exclude_rattlers, "leave out particles with fewer than dim + 1 contacts");
     app.add_option("--output,-o", o.output, "write the JSON here instead of standard output (written whole, then renamed)");
     CLI11_PARSE(app, argc, argv);

@@ -133,6 +133,38 @@ BOOST_AUTO_TEST_CASE(lattice_values_in_json) {
     BOOST_TEST(std::abs(j["contact_number_density"].get<double>() - 6 * j["volume_fraction"].get<double>()) < 1e-10);
 }
 
+// Tangential forces from a contact-force file enter the tangential stress: on a square lattice a
+// force t on i from j (j = i + 1 along x) adds l t to sigma_12 per contact.
+BOOST_AUTO_TEST_CASE(contact_force_file) {
+    const double l = 2e-3;
+    std::ostringstream csv, forces;
+    csv << "id,x,z,r\n";
+    int id = 100;
+    for (int j = 0; j < 4; ++j)
+        for (int i = 0; i < 4; ++i) csv << id++ << "," << num((i + 0.5) * l) << "," << num((j + 0.5) * l) << "," << num(0.5 * l * (1 + 1e-9)) << "\n";
+    forces << "i,j,ft_x,ft_z\n";
+    forces << "101,100,0,0.5\n";   // on 101 from its left neighbour 100: +0.5 N along z
+    forces << "100,101,0.01,-0.25\n";  // the same contact given again from the other side overrides it (normal part dropped)
+    const auto packing = write("square.csv", csv.str()), force_file = write("forces.csv", forces.str());
+    const std::string box = " --box 0 " + num(4 * l) + " 0 " + num(4 * l) + " --periodic x,z";
+    const auto r = run(packing + box + " --contact-forces " + force_file);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const auto j = nlohmann::json::parse(r.out);
+    // Contact (100, 101): branch r_100 - r_101 = -l e_x, force on 100 = -0.25 e_z:
+    // sigma_xz = (-l)(-0.25) / V.
+    const double V = 16 * l * l;
+    BOOST_TEST(std::abs(j["stress_tangential"][0][1].get<double>() - l * 0.25 / V) < 1e-12 * l * 0.25 / V);
+    BOOST_TEST(std::abs(j["stress_tangential"][1][0].get<double>()) < 1e-20);
+
+    const auto apart = write("apart.csv", "i,j,ft_x,ft_z\n100,110,0,1\n");
+    const auto bad = run(packing + box + " --contact-forces " + apart);
+    BOOST_TEST(bad.status != 0);
+    BOOST_TEST(bad.err.find("apart.csv:2: particles 100 and 110 do not overlap") != std::string::npos, bad.err);
+    const auto unknown = write("unknown.csv", "i,j,ft_x,ft_z\n100,7,0,1\n");
+    BOOST_TEST(run(packing + box + " --contact-forces " + unknown).err.find("unknown.csv:2: particle id 7 is not in the packing") !=
+               std::string::npos);
+}
+
 BOOST_AUTO_TEST_CASE(bad_inputs_name_file_and_line) {
     struct Case {
         std::string name, text, args, expect;

@@ -236,4 +236,54 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
     return f;
 }
 
+/// One line of a contact-force file: the tangential force on particle `i` from particle `j`.
+template <int dim>
+struct ContactForceRecord {
+    long long i, j;  ///< particle ids (the packing's id column, else 0-based order)
+    Vec<dim> tangential_force;
+    std::size_t line;
+};
+
+/// Tangential contact forces from a CSV file with columns i, j and ft_x, ft_z (2D) or ft_x, ft_y,
+/// ft_z (3D).
+template <int dim>
+std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path) {
+    auto in = detail::open(path);
+    std::vector<ContactForceRecord<dim>> out;
+    std::string text;
+    std::size_t line = 0;
+    std::vector<std::string> names;
+    std::array<int, dim + 2> columns{};
+    std::array<std::string, dim + 2> wanted;
+    wanted[0] = "i";
+    wanted[1] = "j";
+    const auto axes = csv_coordinates<dim>();
+    for (int a = 0; a < dim; ++a) wanted[a + 2] = std::string("ft_") + axes[a];
+    while (std::getline(in, text)) {
+        ++line;
+        if (!text.empty() && text.back() == '\r') text.pop_back();
+        if (text.find_first_not_of(" \t") == std::string::npos || text[text.find_first_not_of(" \t")] == '#') continue;
+        const auto fields = detail::split(text, ',');
+        if (names.empty()) {
+            names = fields;
+            for (std::size_t w = 0; w < wanted.size(); ++w) {
+                const auto it = std::find(names.begin(), names.end(), wanted[w]);
+                if (it == names.end()) detail::fail(path, line, "missing column '" + wanted[w] + "'");
+                columns[w] = static_cast<int>(it - names.begin());
+            }
+            continue;
+        }
+        if (fields.size() != names.size())
+            detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(names.size()));
+        ContactForceRecord<dim> r;
+        r.i = static_cast<long long>(detail::number(fields[columns[0]], path, line, "i"));
+        r.j = static_cast<long long>(detail::number(fields[columns[1]], path, line, "j"));
+        for (int a = 0; a < dim; ++a) r.tangential_force[a] = detail::number(fields[columns[a + 2]], path, line, wanted[a + 2]);
+        r.line = line;
+        out.push_back(r);
+    }
+    if (names.empty()) detail::fail(path, 0, "the file is empty (no header line)");
+    return out;
+}
+
 }  // namespace micromacro::io
