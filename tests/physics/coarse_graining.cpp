@@ -72,8 +72,10 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(grid_sum_reproduces_box_average, D, Dims) {
             for (const auto& fx : f.fabric) filled += fx.trace() > 0.0;
             BOOST_TEST(filled == grid.size());
         };
-        check(mm::GaussianKernel{2e-3});
-        check(mm::LucyKernel{4e-3});
+        const double d = mm::mean_diameter(s);
+        BOOST_TEST(std::abs(d - 2e-3) < 0.1e-3);  // radii uniform in [0.5, 1.5] mm
+        check(mm::GaussianKernel{1.0 * d});
+        check(mm::LucyKernel{2.0 * d});
     }
 }
 

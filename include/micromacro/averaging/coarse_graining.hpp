@@ -42,6 +42,14 @@ struct LucyKernel {
     }
 };
 
+/// Mean particle diameter: kernel widths are usually given in diameters, w = n * mean_diameter(s).
+template <int dim>
+double mean_diameter(const PackingSnapshot<dim>& s) {
+    double sum = 0.0;
+    for (double r : s.radius) sum += 2.0 * r;
+    return s.radius.empty() ? 0.0 : sum / static_cast<double>(s.radius.size());
+}
+
 template <int dim>
 struct Grid {
     Vec<dim> lo;                 ///< first point
