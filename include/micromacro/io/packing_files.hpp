@@ -72,6 +72,31 @@ inline std::ifstream open(const std::string& path) {
     return in;
 }
 
+/// Reads a CSV file: calls header(names, line) for the first data line and row(fields, line)
+/// for every further one; skips blank lines and # comments; checks the field count.
+template <class Header, class Row>
+void read_csv_rows(const std::string& path, Header&& header, Row&& row) {
+    auto in = open(path);
+    std::string text;
+    std::size_t line = 0, columns = 0;
+    while (std::getline(in, text)) {
+        ++line;
+        if (!text.empty() && text.back() == '\r') text.pop_back();
+        const auto first = text.find_first_not_of(" \t");
+        if (first == std::string::npos || text[first] == '#') continue;
+        const auto fields = split(text, ',');
+        if (columns == 0) {
+            columns = fields.size();
+            header(fields, line);
+            continue;
+        }
+        if (fields.size() != columns)
+            fail(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(columns));
+        row(fields, line);
+    }
+    if (columns == 0) fail(path, 0, "the file is empty (no header line)");
+}
+
 /// Rejects a file without particles and particles with identical centres (undefined normal).
 template <int dim>
 void check_particles(PackingFile<dim>& f, const std::string& path) {
@@ -142,29 +167,20 @@ constexpr std::array<const char*, dim> csv_coordinates() {
 
 template <int dim>
 PackingFile<dim> read_csv(const std::string& path) {
-    auto in = detail::open(path);
     PackingFile<dim> f;
-    std::string text;
-    std::size_t line = 0;
     std::vector<std::string> names;
     std::array<int, dim> columns{};
     int radius_column = -1, id_column = -1;
     double radius_factor = 1.0;
-    while (std::getline(in, text)) {
-        ++line;
-        if (!text.empty() && text.back() == '\r') text.pop_back();
-        if (text.find_first_not_of(" \t") == std::string::npos || text[text.find_first_not_of(" \t")] == '#') continue;
-        const auto fields = detail::split(text, ',');
-        if (names.empty()) {
-            names = fields;
+    detail::read_csv_rows(
+        path,
+        [&](const std::vector<std::string>& header, std::size_t line) {
+            names = header;
             detail::locate<dim>(names, csv_coordinates<dim>(), columns, radius_column, radius_factor, id_column, path, line);
-            continue;
-        }
-        if (fields.size() != names.size())
-            detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(names.size()));
-        detail::add_particle<dim>(f, fields, columns, radius_column, radius_factor, id_column, names, path, line);
-    }
-    if (names.empty()) detail::fail(path, 0, "the file is empty (no header line)");
+        },
+        [&](const std::vector<std::string>& fields, std::size_t line) {
+            detail::add_particle<dim>(f, fields, columns, radius_column, radius_factor, id_column, names, path, line);
+        });
     detail::check_particles(f, path);
     return f;
 }
@@ -248,41 +264,30 @@ struct ContactForceRecord {
 /// ft_z (3D).
 template <int dim>
 std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path) {
-    auto in = detail::open(path);
     std::vector<ContactForceRecord<dim>> out;
-    std::string text;
-    std::size_t line = 0;
-    std::vector<std::string> names;
-    std::array<int, dim + 2> columns{};
     std::array<std::string, dim + 2> wanted;
     wanted[0] = "i";
     wanted[1] = "j";
     const auto axes = csv_coordinates<dim>();
     for (int a = 0; a < dim; ++a) wanted[a + 2] = std::string("ft_") + axes[a];
-    while (std::getline(in, text)) {
-        ++line;
-        if (!text.empty() && text.back() == '\r') text.pop_back();
-        if (text.find_first_not_of(" \t") == std::string::npos || text[text.find_first_not_of(" \t")] == '#') continue;
-        const auto fields = detail::split(text, ',');
-        if (names.empty()) {
-            names = fields;
+    std::array<int, dim + 2> columns{};
+    detail::read_csv_rows(
+        path,
+        [&](const std::vector<std::string>& names, std::size_t line) {
             for (std::size_t w = 0; w < wanted.size(); ++w) {
                 const auto it = std::find(names.begin(), names.end(), wanted[w]);
                 if (it == names.end()) detail::fail(path, line, "missing column '" + wanted[w] + "'");
                 columns[w] = static_cast<int>(it - names.begin());
             }
-            continue;
-        }
-        if (fields.size() != names.size())
-            detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(names.size()));
-        ContactForceRecord<dim> r;
-        r.i = static_cast<long long>(detail::number(fields[columns[0]], path, line, "i"));
-        r.j = static_cast<long long>(detail::number(fields[columns[1]], path, line, "j"));
-        for (int a = 0; a < dim; ++a) r.tangential_force[a] = detail::number(fields[columns[a + 2]], path, line, wanted[a + 2]);
-        r.line = line;
-        out.push_back(r);
-    }
-    if (names.empty()) detail::fail(path, 0, "the file is empty (no header line)");
+        },
+        [&](const std::vector<std::string>& fields, std::size_t line) {
+            ContactForceRecord<dim> r;
+            r.i = static_cast<long long>(detail::number(fields[columns[0]], path, line, "i"));
+            r.j = static_cast<long long>(detail::number(fields[columns[1]], path, line, "j"));
+            for (int a = 0; a < dim; ++a) r.tangential_force[a] = detail::number(fields[columns[a + 2]], path, line, wanted[a + 2]);
+            r.line = line;
+            out.push_back(r);
+        });
     return out;
 }
 
