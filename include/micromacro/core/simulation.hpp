@@ -81,7 +81,7 @@ public:
     double time_step() const { return dt_; }
     /// Skin of the neighbour list: pairs closer than this (surface to surface) are candidates.
     void set_skin(double skin) {
-        detail::require_positive(skin, "neighbour skin", "a tenth of the mean radius is a good start");
+        detail::require_positive(skin, "neighbour skin", "the default is a fifth of the mean radius");
         skin_ = skin;
         prepared_ = false;
     }
@@ -93,9 +93,10 @@ public:
     void set_track_energy(bool on) { track_energy_ = on; }
 
     /// The largest stable time step of the scene's stiffest two-body oscillation: the normal
-    /// spring between the two lightest particles and, with friction, the tangential spring with
-    /// rotation (Eq. 22's oscillator, limit from Integrator::stability_limit). Many contacts on
-    /// one particle stiffen it further: this bound is necessary, not sufficient.
+    /// spring between the two lightest particles, with friction the tangential spring with
+    /// rotation, and a stress-controlled wall on one particle (Eq. 22's oscillator, limits from
+    /// the integrators). Many contacts on one particle stiffen it further: this bound is
+    /// necessary, not sufficient.
     double stable_time_step() const {
         if (particles_.empty()) return std::numeric_limits<double>::infinity();
         const auto& inv_m = particles_.template get<field::InverseMass>();
@@ -118,6 +119,13 @@ public:
             limit = std::min(limit, Integrator::stability_limit(std::sqrt(law_.tangential.stiffness() * inv_mu_t),
                                                                0.5 * law_.tangential.damping() * inv_mu_t));
         }
+        if constexpr (has_walls)  // a stress-controlled wall on one contact: semi-implicit Euler
+            for (const auto& w : walls_)
+                if (const auto* s = std::get_if<StressControlled>(&w.motion)) {
+                    const double inv_mu = 1.0 / s->mass + inv_max;
+                    limit = std::min(limit, SymplecticEuler::stability_limit(std::sqrt(law_.normal.stiffness() * inv_mu),
+                                                                            0.5 * s->damping / s->mass));
+                }
         return limit;
     }
 
