@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # One-command set-up for a fresh Debian 12 machine.
 #   scripts/setup.sh run    install what is missing, build, run the project's main job
+#                           (the biaxial test, quick preset, into runs/quick or $OUT)
 #   scripts/setup.sh test   install what is missing, build, run the whole test suite
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores).
 set -euo pipefail
@@ -27,7 +28,9 @@ cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DMICROMACRO_WERROR=ON
 cmake --build "$build" -j "$jobs"
 
 if [ "$mode" = run ]; then
-  "$build/examples/01_two_particles"
+  out=${OUT:-runs/quick}
+  "$build/examples/biaxial" --preset quick --out "$out"
+  echo "time series: $out/timeseries.csv   parameters and timing: $out/run.json"
 else
   BOOST_TEST_COLOR_OUTPUT=no ctest --test-dir "$build" --output-on-failure -j "$jobs"
 fi

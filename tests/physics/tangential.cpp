@@ -64,6 +64,23 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(sliding_particle_ends_rolling, D, Dims) {
     check_rolling<D::value, mm::SymplecticEuler>();
 }
 
+// On a wall marked frictionless the same particle keeps sliding: no tangential force, no spin.
+BOOST_AUTO_TEST_CASE_TEMPLATE(frictionless_wall_does_not_brake, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    mm::Walls<dim> walls;
+    walls.add_axis_aligned(up, true, 0.0).frictionless = true;
+    FrictionScene<dim> sim(paper_law(), {}, walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+    mm::Vec<dim> x = mm::Vec<dim>::Zero();
+    x[up] = a - m * g / k;
+    sim.particles().add(x, a, m);
+    sim.particles().velocity()[0] = 0.03 * unit<dim>(0);
+    sim.set_time_step(wall_dt());
+    sim.run(static_cast<std::size_t>(0.01 / wall_dt()));
+    BOOST_TEST(std::abs(sim.particles().velocity()[0][0] - 0.03) < 1e-12);
+    BOOST_TEST(mm::DimTraits<dim>::squared_norm(sim.particles().template get<mm::field::AngularVelocity>()[0]) == 0.0);
+}
+
 // A block (no rotation: huge moment of inertia) on a plane tilted by theta stays put while
 // tan(theta) < mu and slides with acceleration g (sin theta - mu_d cos theta) above. A sphere that
 // may roll instead rolls down any incline below tan(theta) = 7/2 mu with a = 5/7 g sin(theta).

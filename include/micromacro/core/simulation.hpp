@@ -70,6 +70,12 @@ public:
     const Boundary& walls() const { return walls_; }
     const Domain<dim>& domain() const { return domain_; }
     const Law& law() const { return law_; }
+    /// The contact law may be changed between steps (e.g. friction switched on after a
+    /// frictionless preparation); the stability limit is checked again at the next prepare().
+    Law& law() {
+        prepared_ = false;
+        return law_;
+    }
     template <class F>
     F& body_force() { return std::get<F>(body_forces_); }
 
@@ -324,7 +330,7 @@ public:
                 const double s = wall.distance(x[i]);
                 if (!(s < r[i])) continue;
                 f(view(i, w, true, wall.normal, r[i] - s, V(s * wall.normal), wall_relative_velocity(i, wall),
-                       history_of(wall_contacts_, c)));
+                       history_of(wall_contacts_, c), wall.frictionless));
             }
     }
 
@@ -349,7 +355,7 @@ public:
             if constexpr (has_walls)
                 for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
                     const auto [i, w] = wall_contacts_.pairs()[c];
-                    load(wall_contacts_.history(c), V(walls_[w].distance(x[i]) * walls_[w].normal));
+                    if (!walls_[w].frictionless) load(wall_contacts_.history(c), V(walls_[w].distance(x[i]) * walls_[w].normal));
                 }
         }
         if constexpr (has_walls) {
@@ -386,11 +392,13 @@ private:
 
     // The physics of one contact, shared by particle pairs and wall contacts.
     template <bool track>
-    Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h) {
+    Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h,
+                     bool smooth = false) {
         const NormalForce fn = law_.normal.force(overlap, normal_velocity);
         if constexpr (track) step_books_.dissipated_normal -= fn.viscous * normal_velocity * dt_;
         Response out{fn.total() * n, V::Zero(), fn.total()};
         if constexpr (has_tangential) {
+            if (smooth) return out;  // a frictionless wall: normal part only
             const auto ft = law_.tangential.template force<dim, track>(n, relative_velocity, fn.total(), dt_, *h);
             if constexpr (track) {
                 step_books_.dissipated_tangential += ft.dissipated_viscous;
@@ -445,7 +453,8 @@ private:
                 }
                 const V& n = wall.normal;
                 const V vr = wall_relative_velocity(i, wall);
-                const Response resp = respond<track>(n, r[i] - s, n.dot(vr), vr, history_of(wall_contacts_, c));
+                const Response resp =
+                    respond<track>(n, r[i] - s, n.dot(vr), vr, history_of(wall_contacts_, c), wall.frictionless);
                 f[i] += resp.force;
                 wall.force -= resp.force;
                 if constexpr (rotation)
@@ -525,13 +534,14 @@ private:
     }
 
     ContactView<dim> view(Index i, Index j, bool wall, const V& n, double overlap, const V& branch, const V& vr,
-                          const History* h) const {
+                          const History* h, bool smooth = false) const {
         ContactView<dim> c{i, j, wall, {n, overlap, n.dot(vr), vr}, branch, 0, 0, V::Zero(), 0, false};
         const NormalForce fn = law_.normal.force(overlap, c.geometry.normal_velocity);
         c.normal_force = fn.total();
         c.normal_elastic_force = fn.elastic;
         c.elastic_energy = law_.normal.elastic_energy(overlap);
         if constexpr (has_tangential) {
+            if (smooth) return c;
             c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), *h);
             c.elastic_energy += law_.tangential.elastic_energy(*h);
             c.sliding = h->sliding;

@@ -2,7 +2,8 @@
 // Planar walls. A wall is a plane n . x = h with unit normal n pointing into the domain; a
 // particle touches it when its centre is closer than its radius. The contact uses the scene's
 // contact law with the wall as an infinite-mass partner, and the opposite force is summed on
-// the wall. How the wall moves is its motion policy:
+// the wall (a wall marked frictionless uses only the law's normal part). How the wall moves is its
+// motion policy:
 //   FixedMotion       never moves;
 //   StrainControlled  moves by Eq. 17 (a cosine ramp of given travel and period, then stops);
 //   StressControlled  obeys Eq. 18, m_w h'' = p A - F - gamma_w h', F the push of the particles.
@@ -48,6 +49,7 @@ struct Wall {
     double speed = 0.0;           ///< dh/dt
     double initial_offset = 0.0;  ///< h at time 0 (Eq. 17's reference)
     V force = V::Zero();          ///< force ON the wall from the particles, last evaluation
+    bool frictionless = false;    ///< use only the normal part of the contact law on this wall
 
     /// Signed distance of a point from the plane, positive inside the domain.
     double distance(const V& x) const { return normal.dot(x) - offset; }

@@ -1,0 +1,304 @@
+#pragma once
+// The paper's biaxial test (Sec. 4), in 2D and as a triaxial box in 3D.
+//
+// Preparation (Sec. 4.3.1): random non-overlapping particles in a box about twice the final size
+// per side; the lower walls are fixed, the upper walls are stress-controlled at the pressure p
+// and compress the packing until its kinetic energy is below 1e-6 of its elastic energy.
+// Loading (Sec. 4.1): the top wall follows Eq. 17 (strain-controlled), the other upper walls stay
+// stress-controlled at p (Eq. 18), the lower walls stay fixed; after T/2 the top wall stops and
+// the packing relaxes. Averages (Sec. 4.4) are taken in the inner box, 10% left out next to each
+// wall, with the contact-point rule.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <micromacro/micromacro.hpp>
+
+namespace biaxial {
+
+namespace mm = micromacro;
+
+struct Config {
+    int dim = 2;
+    std::string preset = "quick";
+    std::size_t particles = 300;
+    double radius_min = 0.5e-3, radius_max = 1.5e-3;  // m
+    double density = 2000.0;                           // kg/m^3 (sphere masses, also in 2D)
+    double k = 1e5, gamma0 = 0.1;                      // N/m, kg/s
+    double mu = 0.5, kt_ratio = 0.2, gammat_ratio = 0.2;
+    double pressure = 20.0;        // N/m in 2D, Pa in 3D
+    double period = 0.1;           // T of Eq. 17 (s)
+    double final_strain = 0.2;     // eps_zz at the end of the motion
+    double relax = 0.02;           // s of relaxation after T/2
+    double dt_fraction = 50.0;     // dt = t_c / dt_fraction, t_c of two mean particles
+    unsigned long long seed = 1;
+    double gamma_b = 1e-4;         // background damping while loading (kg/s)
+    double gamma_b_prepare = 1e-2; // background damping while preparing (kg/s)
+    double wall_mass = 1e-4;       // kg
+    double wall_damping = 0.63;    // kg/s while loading (about 0.1 of critical on one contact)
+    double prepare_speed = 0.5;    // m/s: wall damping while preparing is p A / this speed
+    double prepare_kinetic_ratio = 1e-6;
+    double output_interval = 1e-3; // s between rows of the time series
+    double box_factor = 2.0;       // initial box side over the expected final side
+    bool wall_friction = false;    // walls use the particles' friction (default: smooth walls, principal axes)
+    double mu_prepare = 0.5;       // friction while preparing (lower: denser packings)
+    double max_prepare_time = 0.0; // s; 0 = 50 x the time a wall needs to cross the box at prepare_speed
+
+    // Derived.
+    double mean_radius() const { return 0.5 * (radius_min + radius_max); }
+    double mean_mass() const { return mm::sphere_mass(density, mean_radius()); }
+    double contact_duration() const { return mm::contact_duration(k, gamma0, 0.5 * mean_mass()); }
+    double time_step() const { return contact_duration() / dt_fraction; }
+    double rotational_damping(double gamma) const { return 0.4 * gamma * mean_radius() * mean_radius(); }
+};
+
+/// The presets of the issue: the paper's N = 1950 at T = 1 s, and a quick run of the same physics.
+inline void apply_preset(Config& c, const std::string& name) {
+    c.preset = name;
+    if (name == "paper") {
+        c.particles = c.dim == 2 ? 1950 : 12500;
+        c.period = 1.0;
+        c.relax = 0.1;
+        c.output_interval = 1e-3;
+    } else if (name == "quick") {
+        c.particles = c.dim == 2 ? 300 : 500;
+        c.period = 0.1;
+        c.relax = 0.02;
+        c.output_interval = 5e-4;
+    } else {
+        mm::detail::throw_input_error("--preset '", name, "' is unknown; use paper or quick");
+    }
+    if (c.dim == 3) c.pressure = 1e4;  // p d / k = 2e-4 as in the paper's 2D p / k
+}
+
+/// Refuses a configuration before any work starts.
+inline void validate(const Config& c) {
+    using mm::detail::throw_input_error;
+    if (c.dim != 2 && c.dim != 3) throw_input_error("--dim ", c.dim, " is invalid; use 2 or 3");
+    if (c.particles < 2) throw_input_error("--particles ", c.particles, " is too few; use at least 2");
+    mm::detail::require_positive(c.pressure, "--pressure", "the side pressure p must be > 0 (N/m in 2D, Pa in 3D)");
+    if (!(c.final_strain > 0.0 && c.final_strain < 1.0))
+        throw_input_error("--final-strain ", c.final_strain, " is invalid; the strain eps_zz = 1 - z/z0 must be in (0, 1)");
+    mm::detail::require_positive(c.period, "--period", "give T of Eq. 17 in s");
+    mm::detail::require_non_negative(c.relax, "--relax", "give the relaxation time after T/2 in s");
+    mm::detail::require_non_negative(c.mu, "--mu", "use 0 for frictionless particles");
+    mm::detail::require_positive(c.kt_ratio, "--kt-ratio", "k_t / k must be > 0");
+    if (!(c.dt_fraction >= 5.0)) throw_input_error("--dt-fraction ", c.dt_fraction, " is too small; dt = t_c / fraction needs fraction >= 5");
+    mm::detail::require_non_negative(c.gamma_b, "--gamma-b", "use 0 for no background damping");
+    mm::detail::require_non_negative(c.gamma_b_prepare, "--gamma-b-prepare", "use 0 for no background damping");
+    mm::detail::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
+    mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
+    mm::detail::require_positive(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s");
+    mm::detail::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
+    if (!(c.radius_min > 0.0 && c.radius_max >= c.radius_min))
+        throw_input_error("radii [", c.radius_min, ", ", c.radius_max, "] are invalid; need 0 < min <= max");
+    c.contact_duration();  // throws for an overdamped contact
+}
+
+/// One row of the time series: named columns, in order.
+struct Row {
+    std::vector<std::string> names;
+    std::vector<double> values;
+    void add(const std::string& name, double value) {
+        names.push_back(name);
+        values.push_back(value);
+    }
+};
+
+template <int dim>
+class Experiment {
+public:
+    using Law = mm::FrictionalLinear;
+    using Sim = mm::Simulation<dim, Law, mm::Walls<dim>, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping>;
+    using V = mm::Vec<dim>;
+    static constexpr int up = dim - 1;  // the loaded axis (the paper's z, index 2)
+
+    explicit Experiment(const Config& c) : c_(c), sim_(make_law(c, c.mu), {}, {}, {}, {}, mm::BackgroundDamping(0.0, 0.0)) {}
+
+    Sim& simulation() { return sim_; }
+    const Config& config() const { return c_; }
+
+    /// Places the particles and walls of the preparation.
+    void build() {
+        const double mean_volume = [&] {
+            double v = 0.0;
+            for (int b = 0; b < 1000; ++b)
+                v += mm::DimTraits<dim>::particle_volume(c_.radius_min + (c_.radius_max - c_.radius_min) * (b + 0.5) / 1000) / 1000;
+            return v;
+        }();
+        const double dense = dim == 2 ? 0.84 : 0.64;
+        const double L = c_.box_factor * std::pow(c_.particles * mean_volume / dense, 1.0 / dim);
+        std::mt19937_64 rng(c_.seed);
+        std::uniform_real_distribution<double> U(0.0, 1.0);
+        auto& p = sim_.particles();
+        std::vector<V> placed;
+        std::vector<double> radii;
+        // Random sequential placement; overlap checks against the particles placed so far.
+        for (std::size_t tries = 0; placed.size() < c_.particles; ++tries) {
+            if (tries > 1000 * c_.particles)
+                mm::detail::throw_input_error("could not place ", c_.particles, " particles without overlap in the initial box; "
+                                              "raise --box-factor");
+            const double a = c_.radius_min + (c_.radius_max - c_.radius_min) * U(rng);
+            V x;
+            for (int k = 0; k < dim; ++k) x[k] = a + (L - 2 * a) * U(rng);
+            bool free = true;
+            for (std::size_t j = 0; j < placed.size() && free; ++j) free = (x - placed[j]).norm() > a + radii[j];
+            if (!free) continue;
+            placed.push_back(x);
+            radii.push_back(a);
+            p.add(x, a, mm::sphere_mass(c_.density, a));
+        }
+        auto& walls = sim_.walls();
+        for (int k = 0; k < dim; ++k) {
+            walls.add_axis_aligned(k, true, 0.0).frictionless = !c_.wall_friction;
+            walls.add_axis_aligned(k, false, L, prepare_motion(L)).frictionless = !c_.wall_friction;
+        }
+        sim_.template body_force<mm::BackgroundDamping>() =
+            mm::BackgroundDamping(c_.gamma_b_prepare, c_.rotational_damping(c_.gamma_b_prepare));
+        sim_.law().tangential = make_law(c_, c_.mu_prepare).tangential;
+        sim_.set_time_step(c_.time_step());
+        sim_.prepare();
+    }
+
+    /// Compresses isotropically until the kinetic energy is below the configured fraction of the
+    /// elastic energy; returns the simulated time it took.
+    double prepare(const std::function<void(const Sim&)>& progress = {}) {
+        const double limit = c_.max_prepare_time > 0 ? c_.max_prepare_time
+                                                     : 50.0 * sim_.walls()[1].coordinate() / c_.prepare_speed;
+        const double start = sim_.time();
+        while (true) {
+            sim_.run(1000);
+            if (progress) progress(sim_);
+            const auto e = sim_.energy();
+            double wall_kinetic = 0.0;
+            for (const auto& w : sim_.walls()) wall_kinetic += 0.5 * c_.wall_mass * w.speed * w.speed;
+            if (e.elastic_normal > 0.0 && e.kinetic() < c_.prepare_kinetic_ratio * e.potential() &&
+                wall_kinetic < c_.prepare_kinetic_ratio * e.potential())
+                break;
+            if (sim_.time() - start > limit)
+                mm::detail::throw_input_error("the preparation did not come to rest within ", limit,
+                                              " s (kinetic / elastic energy = ", e.kinetic() / e.potential(),
+                                              "); raise --gamma-b-prepare or lower --prepare-speed");
+        }
+        return sim_.time() - start;
+    }
+
+    /// Switches the walls and damping to the loading of Sec. 4.1 and records the reference box.
+    void start_loading() {
+        auto& walls = sim_.walls();
+        for (int k = 0; k < dim; ++k) {
+            auto& upper = walls[2 * k + 1];
+            upper.initial_offset = upper.offset;
+            upper.speed = 0.0;
+            if (k == up)
+                upper.motion = mm::StrainControlled{c_.final_strain * upper.coordinate(), c_.period, sim_.time()};
+            else
+                upper.motion = mm::StressControlled{c_.pressure, c_.wall_mass, c_.wall_damping};
+            box0_[k] = upper.coordinate() - walls[2 * k].coordinate();
+        }
+        sim_.template body_force<mm::BackgroundDamping>() = mm::BackgroundDamping(c_.gamma_b, c_.rotational_damping(c_.gamma_b));
+        sim_.law().tangential = make_law(c_, c_.mu).tangential;
+        load_start_ = sim_.time();
+    }
+
+    double load_start() const { return load_start_; }
+    /// The box after preparation, per axis (m).
+    std::vector<double> reference_box() const { return {box0_.begin(), box0_.end()}; }
+    /// eps_zz = 1 - z / z0 of Eq. 17 (compression positive).
+    double eps_zz() const {
+        const auto& w = sim_.walls();
+        return 1.0 - (w[2 * up + 1].coordinate() - w[2 * up].coordinate()) / box0_[up];
+    }
+    double load_end() const { return load_start_ + 0.5 * c_.period + c_.relax; }
+
+    /// The time-series row of the present state.
+    Row row() const {
+        Row r;
+        const auto s = mm::take_snapshot(sim_);
+        const auto m = mm::average(s, mm::Region<dim>::inner(s, 0.1));
+        const auto wall = mm::wall_stress(s);
+        const auto e = sim_.energy();
+        const auto& walls = sim_.walls();
+        auto idx = [](std::initializer_list<int> i) {
+            std::string t;
+            for (int a : i) t += std::to_string(a + 1);
+            return t;
+        };
+        r.add("time", sim_.time() - load_start_);
+        double volume = 1.0, volume0 = 1.0;
+        for (int k = 0; k < dim; ++k) {
+            const double extent = walls[2 * k + 1].coordinate() - walls[2 * k].coordinate();
+            r.add("strain_" + idx({k, k}), 1.0 - extent / box0_[k]);
+            volume *= extent;
+            volume0 *= box0_[k];
+        }
+        r.add("volumetric_strain", 1.0 - volume / volume0);
+        for (int k = 0; k < dim; ++k) {
+            r.add("wall_" + idx({k}) + "_lower", walls[2 * k].coordinate());
+            r.add("wall_" + idx({k}) + "_upper", walls[2 * k + 1].coordinate());
+        }
+        for (int k = 0; k < dim; ++k) r.add("sigma_wall_" + idx({k, k}), wall(k, k));
+        for (int k = 0; k < dim; ++k) {  // each moving wall on its own: its push over its area
+            const auto& w = walls[2 * k + 1];
+            double area = 1.0;
+            for (int b = 0; b < dim; ++b)
+                if (b != k) area *= walls[2 * b + 1].coordinate() - walls[2 * b].coordinate();
+            r.add("sigma_wall_" + idx({k, k}) + "_upper", -w.force.dot(w.normal) / area);
+        }
+        for (int a = 0; a < dim; ++a)
+            for (int b = a; b < dim; ++b) {
+                r.add("sigma_" + idx({a, b}), m.stress(a, b));
+                r.add("sigma_n_" + idx({a, b}), m.stress_normal(a, b));
+                r.add("sigma_t_" + idx({a, b}), m.stress_tangential(a, b));
+            }
+        r.add("pressure", m.pressure);
+        r.add("deviatoric_stress", m.stress_deviator);
+        for (int a = 0; a < dim; ++a)
+            for (int b = a; b < dim; ++b) r.add("F_" + idx({a, b}), m.fabric(a, b));
+        r.add("trF", m.contact_number_density);
+        r.add("g2", m.g2);
+        r.add("trF_over_g2", m.g2 > 0 ? m.contact_number_density / m.g2 : 0.0);
+        r.add("deviatoric_fabric", m.fabric_deviator);
+        if constexpr (dim == 2) r.add("phi_F", m.fabric_angle);
+        r.add("coordination", m.coordination);
+        r.add("volume_fraction", m.volume_fraction);
+        // Stiffness: C^n has minor and major symmetry, C^t only major symmetry; one column per
+        // independent entry, in units of N/m (2D) or Pa (3D).
+        for (int a = 0; a < dim; ++a)
+            for (int b = a; b < dim; ++b)
+                for (int c = 0; c < dim; ++c)
+                    for (int d = c; d < dim; ++d)
+                        if (a * dim + b <= c * dim + d) r.add("C_n_" + idx({a, b, c, d}), m.stiffness_normal(a, b, c, d));
+        for (int p = 0; p < dim * dim; ++p)
+            for (int q = p; q < dim * dim; ++q)
+                r.add("C_t_" + idx({p / dim, p % dim, q / dim, q % dim}),
+                      m.stiffness_tangential(p / dim, p % dim, q / dim, q % dim));
+        r.add("kinetic_energy", e.kinetic());
+        r.add("elastic_energy", e.elastic_normal + e.elastic_tangential);
+        r.add("dissipated_energy", sim_.books().dissipated());
+        r.add("work_by_walls", sim_.books().work_by_walls);
+        r.add("sliding_fraction", m.sliding_fraction);
+        return r;
+    }
+
+private:
+    static Law make_law(const Config& c, double mu) {
+        return Law{mm::LinearSpringDashpot(c.k, c.gamma0), mm::CundallStrack(c.kt_ratio * c.k, c.gammat_ratio * c.gamma0, mu)};
+    }
+
+    mm::WallMotion prepare_motion(double L) const {
+        const double area = std::pow(L, dim - 1);  // grows smaller as the box shrinks: the force does too
+        return mm::StressControlled{c_.pressure, c_.wall_mass, c_.pressure * area / c_.prepare_speed};
+    }
+
+    Config c_;
+    Sim sim_;
+    std::array<double, dim> box0_{};
+    double load_start_ = 0.0;
+};
+
+}  // namespace biaxial

@@ -1,0 +1,192 @@
+// The biaxial program end to end: a short run asserts the physics of Sec. 4 (not just that it
+// ran), runs are bitwise deterministic, and bad options are refused before any work.
+#define BOOST_TEST_MODULE tools_biaxial
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+namespace fs = std::filesystem;
+
+namespace {
+const fs::path work = fs::temp_directory_path() / "micromacro_biaxial_test";
+
+struct Result {
+    int status;
+    std::string out, err;
+};
+
+Result run(const std::string& args) {
+    fs::create_directories(work);
+    const auto out = work / "stdout.txt", err = work / "stderr.txt";
+    const int status = std::system((std::string(BIAXIAL) + " " + args + " > " + out.string() + " 2> " + err.string()).c_str());
+    auto slurp = [](const fs::path& p) {
+        std::ifstream in(p);
+        std::stringstream s;
+        s << in.rdbuf();
+        return s.str();
+    };
+    return {status, slurp(out), slurp(err)};
+}
+
+std::string slurp(const fs::path& p) {
+    std::ifstream in(p);
+    std::stringstream s;
+    s << in.rdbuf();
+    return s.str();
+}
+
+// timeseries.csv as columns by name.
+std::map<std::string, std::vector<double>> read_series(const fs::path& p) {
+    std::ifstream in(p);
+    std::string line;
+    std::vector<std::string> names;
+    std::map<std::string, std::vector<double>> columns;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        std::stringstream s(line);
+        std::string field;
+        std::vector<std::string> fields;
+        while (std::getline(s, field, ',')) fields.push_back(field);
+        if (names.empty()) {
+            names = fields;
+            continue;
+        }
+        for (std::size_t i = 0; i < fields.size(); ++i) columns[names[i]].push_back(std::stod(fields[i]));
+    }
+    return columns;
+}
+
+// One short 2D run shared by the physics checks: 600 particles, T = 0.1 s, eps_f = 0.3.
+const std::map<std::string, std::vector<double>>& physics_run() {
+    static const auto series = [] {
+        const auto dir = work / "physics";
+        const auto r = run("--preset quick --particles 600 --final-strain 0.3 --quiet --out " + dir.string());
+        if (r.status != 0) throw std::runtime_error("biaxial failed: " + r.err);
+        return read_series(dir / "timeseries.csv");
+    }();
+    return series;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(side_wall_holds_the_pressure) {
+    const auto& s = physics_run();
+    // Once settled (the end of the relaxation) the stress-controlled wall pushes with p = 20 N/m.
+    BOOST_TEST(std::abs(s.at("sigma_wall_11_upper").back() / 20.0 - 1.0) < 0.02);
+    // ... and the prepared state was isotropic at p on every wall.
+    BOOST_TEST(std::abs(s.at("sigma_wall_11").front() / 20.0 - 1.0) < 0.02);
+    BOOST_TEST(std::abs(s.at("sigma_wall_22").front() / 20.0 - 1.0) < 0.02);
+}
+
+BOOST_AUTO_TEST_CASE(contact_stress_matches_wall_stress_when_quasi_static) {
+    const auto& s = physics_run();
+    for (const std::string c : {"11", "22"}) {
+        const double inner = s.at("sigma_" + c).back(), wall = s.at("sigma_wall_" + c).back();
+        BOOST_TEST_MESSAGE("sigma_" << c << ": inner " << inner << ", walls " << wall);
+        BOOST_TEST(std::abs(inner / wall - 1.0) < 0.05);
+    }
+}
+
+BOOST_AUTO_TEST_CASE(anisotropy_against_the_compression) {
+    const auto& s = physics_run();
+    BOOST_TEST(s.at("F_22").back() > 1.1 * s.at("F_11").back());
+    BOOST_TEST(s.at("C_n_2222").back() > 1.1 * s.at("C_n_1111").back());
+    BOOST_TEST(s.at("sigma_22").back() > s.at("sigma_11").back());
+}
+
+// PAPER-NOTES section 4 in every row: C^t_1111 = C^t_2222 = alpha C^n_1122, C^t_1122 = -alpha
+// C^n_1122, C^t_1212 = alpha C^n_1111, C^t_2121 = alpha C^n_2222, C^t_1222 = alpha C^n_1112,
+// C^t_1121 = alpha C^n_1222 (alpha = 0.2).
+BOOST_AUTO_TEST_CASE(stiffness_identities_in_every_row) {
+    const auto& s = physics_run();
+    const double alpha = 0.2;
+    for (std::size_t r = 0; r < s.at("time").size(); ++r) {
+        auto C = [&](const std::string& name) { return s.at(name)[r]; };
+        const double scale = C("C_n_1111") + C("C_n_2222");
+        auto same = [&](double a, double b) { return std::abs(a - b) <= 1e-12 * scale; };
+        BOOST_TEST_REQUIRE(same(C("C_t_1111"), alpha * C("C_n_1122")));
+        BOOST_TEST_REQUIRE(same(C("C_t_2222"), alpha * C("C_n_1122")));
+        BOOST_TEST_REQUIRE(same(C("C_t_1122"), -alpha * C("C_n_1122")));
+        BOOST_TEST_REQUIRE(same(C("C_t_1212"), alpha * C("C_n_1111")));
+        BOOST_TEST_REQUIRE(same(C("C_t_2121"), alpha * C("C_n_2222")));
+        BOOST_TEST_REQUIRE(same(C("C_t_1222"), alpha * C("C_n_1112")));
+        BOOST_TEST_REQUIRE(same(C("C_t_1121"), alpha * C("C_n_1222")));
+        BOOST_TEST_REQUIRE(same(C("C_n_1122"), C("C_n_1212")));
+    }
+}
+
+// Kinetic + elastic + dissipated - work of the walls stays at its start value (zero: the run
+// starts at rest without contacts), to the integrator's error.
+BOOST_AUTO_TEST_CASE(energy_books_close) {
+    const auto& s = physics_run();
+    double worst = 0.0;
+    for (std::size_t r = 0; r < s.at("time").size(); ++r) {
+        const double residual = s.at("kinetic_energy")[r] + s.at("elastic_energy")[r] + s.at("dissipated_energy")[r] -
+                                s.at("work_by_walls")[r];
+        worst = std::max(worst, std::abs(residual) / s.at("work_by_walls")[r]);
+    }
+    BOOST_TEST_MESSAGE("worst energy residual / work of the walls: " << worst);
+    BOOST_TEST(worst < 1e-2);
+}
+
+// The volume first compacts (volumetric strain, compression positive, rises) and then dilates.
+BOOST_AUTO_TEST_CASE(compaction_then_dilation) {
+    const auto& s = physics_run();
+    const auto& ev = s.at("volumetric_strain");
+    const auto& e22 = s.at("strain_22");
+    double max_early = 0.0, at_end_of_motion = 0.0;
+    for (std::size_t r = 0; r < ev.size(); ++r) {
+        if (e22[r] < 0.1) max_early = std::max(max_early, ev[r]);
+        if (e22[r] < 0.3 - 1e-9) at_end_of_motion = ev[r];
+    }
+    BOOST_TEST_MESSAGE("largest compaction before eps_zz = 0.1: " << max_early << ", at the end of the motion: " << at_end_of_motion);
+    BOOST_TEST(max_early > 0.002);
+    BOOST_TEST(at_end_of_motion < max_early - 0.005);
+}
+
+BOOST_AUTO_TEST_CASE(same_seed_same_bits) {
+    const std::string args = " --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 7 --out ";
+    BOOST_TEST_REQUIRE(run(args + (work / "a").string()).status == 0);
+    BOOST_TEST_REQUIRE(run(args + (work / "b").string()).status == 0);
+    const auto a = slurp(work / "a" / "timeseries.csv"), b = slurp(work / "b" / "timeseries.csv");
+    BOOST_TEST(a.size() > 1000u);
+    BOOST_TEST((a == b));
+    BOOST_TEST(!fs::exists(work / "a" / "timeseries.csv.partial"));
+    BOOST_TEST(slurp(work / "a" / "run.json").find("particle_steps_per_second") != std::string::npos);
+    const std::string other = " --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 8 --out ";
+    BOOST_TEST_REQUIRE(run(other + (work / "c").string()).status == 0);
+    BOOST_TEST((slurp(work / "c" / "timeseries.csv") != a));
+}
+
+BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
+    struct Case {
+        std::string args, expect;
+    };
+    const Case cases[] = {
+        {"--pressure -5", "--pressure = -5 is invalid"},
+        {"--final-strain 1", "--final-strain 1 is invalid"},
+        {"--final-strain 1.5", "--final-strain 1.5 is invalid"},
+        {"--preset fast", "--preset 'fast' is unknown"},
+        {"--dim 4", "--dim 4 is invalid"},
+        {"--dt-fraction 2", "--dt-fraction 2 is too small"},
+        {"--particles 1", "--particles 1 is too few"},
+        {"--frobnicate 3", "frobnicate"},
+    };
+    for (const auto& c : cases) {
+        const auto dir = work / "bad";
+        fs::remove_all(dir);
+        const auto r = run(c.args + " --quiet --out " + dir.string());
+        BOOST_TEST(r.status != 0, c.args);
+        BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.args << ": stderr was '" << r.err << "'");
+        BOOST_TEST(!fs::exists(dir / "timeseries.csv"), c.args);
+    }
+    const auto r = run("--quiet --out /proc/not_here");
+    BOOST_TEST(r.status != 0);
+    BOOST_TEST(r.err.find("is not a writable directory") != std::string::npos, r.err);
+}
