@@ -152,6 +152,13 @@ int run(const Config& c, const fs::path& out, bool quiet) {
     const double peak_rate = c.final_strain * M_PI / c.period;
     const double rho_2d = 4.0 / 3.0 * c.density * c.mean_radius();
     const double inertial = peak_rate * 2.0 * c.mean_radius() * std::sqrt((dim == 2 ? rho_2d : c.density) / c.pressure);
+    // Drag of the background damping on the column moved by the top wall, against the side
+    // pressure times the box side: the mean particle moves at half the top wall's peak speed.
+    const auto box = exp.reference_box();
+    const double peak_wall_speed = peak_rate * box[dim - 1];
+    double side = 1.0;
+    for (int k = 0; k < dim - 1; ++k) side *= box[k];
+    const double background_drag = c.gamma_b * n * 0.5 * peak_wall_speed / (c.pressure * side);
     nlohmann::ordered_json j;
     j["program"] = "micromacro biaxial";
     j["version"] = "0.1.0";
@@ -162,6 +169,7 @@ int run(const Config& c, const fs::path& out, bool quiet) {
                     {"restitution", micromacro::restitution(c.k, c.gamma0, 0.5 * c.mean_mass())},
                     {"peak_strain_rate_1_s", peak_rate},
                     {"inertial_number_at_peak_rate", inertial},
+                    {"background_drag_over_pL_at_peak_rate", background_drag},
                     {"wall_oscillation_time_s", 2.0 * M_PI * std::sqrt(c.wall_mass / c.k)},
                     {"wall_damping_time_s", c.wall_damping > 0 ? 2.0 * c.wall_mass / c.wall_damping : 0.0},
                     {"box_after_preparation_m", exp.reference_box()},

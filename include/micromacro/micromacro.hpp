@@ -24,3 +24,4 @@
 #include "micromacro/averaging/tensor.hpp"
 #include "micromacro/averaging/affine_probe.hpp"
 #include "micromacro/averaging/coarse_graining.hpp"
+#include "micromacro/io/state.hpp"

@@ -46,6 +46,12 @@ public:
         next_.clear();
     }
 
+    template <class Archive>
+    void serialize(Archive& ar) {
+        ar.array(pairs_);
+        if constexpr (has_history) ar.array(history_);
+    }
+
     std::size_t bytes() const {
         std::size_t b = pairs_.capacity() * sizeof(IndexPair) + next_.capacity() * sizeof(IndexPair);
         if constexpr (has_history) b += history_.capacity() * sizeof(History);

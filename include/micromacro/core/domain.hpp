@@ -78,6 +78,13 @@ public:
             }
     }
 
+    template <class Archive>
+    void serialize(Archive& ar) {
+        ar.value(lo_);
+        ar.value(hi_);
+        ar.value(periodic_);
+    }
+
     /// A periodic axis must be at least two interaction ranges long, otherwise a particle would
     /// meet two images of the same partner and the minimum image would be ambiguous.
     void check_interaction_range(double range) const {

@@ -377,6 +377,41 @@ public:
         if (track_energy_) books_.work_by_deformation += energy().total() - energy_before;  // done instantly, no loss
     }
 
+    /// Visits the complete state (particles, contacts with their springs, walls, box, law, body
+    /// forces, neighbour-list references, the previous forces, energy books, clocks), so that a
+    /// restored simulation continues bit for bit. See io/state.hpp for files.
+    template <class Archive>
+    void serialize(Archive& ar) {
+        ar.raw(law_);  // plain parameter structs
+        domain_.serialize(ar);
+        if constexpr (has_walls) walls_.serialize(ar);
+        std::apply([&](auto&... f) { (ar.raw(f), ...); }, body_forces_);
+        particles_.serialize(ar);
+        pairs_.serialize(ar);
+        if constexpr (has_walls) {
+            wall_contacts_.serialize(ar);
+            ar.array(wall_reference_);
+            ar.array(wall_books_);
+        }
+        ar.array(reference_);
+        if constexpr (Integrator::keeps_previous_forces) {
+            ar.array(previous_force_);
+            if constexpr (rotation) ar.array(previous_torque_);
+        }
+        ar.value(books_);
+        ar.value(step_books_);
+        ar.value(previous_step_books_);
+        ar.value(initial_energy_);
+        ar.value(dt_);
+        ar.value(skin_);
+        ar.value(time_);
+        ar.value(steps_);
+        ar.value(rebuilds_);
+        ar.value(prepared_);
+        ar.value(allow_unstable_);
+        ar.value(track_energy_);
+    }
+
     std::size_t contact_count() const {
         std::size_t count = 0;
         for_each_contact([&](const ContactView<dim>&) { ++count; });

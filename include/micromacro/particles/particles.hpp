@@ -111,6 +111,23 @@ public:
         return b;
     }
 
+    /// Visits every stored array (for saving and restoring a state).
+    template <class Archive>
+    void serialize(Archive& ar) {
+        ar.array(position_);
+        ar.array(velocity_);
+        ar.array(force_);
+        ar.array(radius_);
+        ar.array(mass_);
+        ar.array(inverse_mass_);
+        if constexpr (with_rotation) {
+            ar.array(angular_velocity_);
+            ar.array(torque_);
+            ar.array(inertia_);
+            ar.array(inverse_inertia_);
+        }
+    }
+
 private:
     template <class Field, class Self>
     static auto& select(Self& self) {

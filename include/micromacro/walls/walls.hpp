@@ -107,6 +107,27 @@ public:
     }
 
     std::size_t size() const { return walls_.size(); }
+
+    template <class Archive>
+    void serialize(Archive& ar) {
+        std::size_t n = walls_.size();
+        ar.value(n);
+        walls_.resize(n);
+        for (auto& w : walls_) {
+            ar.value(w.normal);
+            ar.value(w.offset);
+            ar.value(w.speed);
+            ar.value(w.initial_offset);
+            ar.value(w.force);
+            ar.value(w.frictionless);
+            std::size_t kind = w.motion.index();
+            ar.value(kind);
+            if (kind == 0) w.motion = FixedMotion{};
+            else if (kind == 1) w.motion = ar.template restored<StrainControlled>(w.motion);
+            else w.motion = ar.template restored<StressControlled>(w.motion);
+        }
+    }
+
     Wall<dim>& operator[](std::size_t w) { return walls_[w]; }
     const Wall<dim>& operator[](std::size_t w) const { return walls_[w]; }
     auto begin() { return walls_.begin(); }
