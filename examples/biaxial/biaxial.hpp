@@ -206,6 +206,18 @@ public:
     }
 
     double load_start() const { return load_start_; }
+
+    /// The experiment's own state beyond the simulation (for prepared states and checkpoints).
+    std::vector<double> bookkeeping() const {
+        std::vector<double> b(box0_.begin(), box0_.end());
+        b.push_back(load_start_);
+        return b;
+    }
+    void restore_bookkeeping(const std::vector<double>& b) {
+        if (b.size() != dim + 1) mm::detail::throw_input_error("the saved experiment state does not fit a ", dim, "D run");
+        for (int k = 0; k < dim; ++k) box0_[k] = b[k];
+        load_start_ = b[dim];
+    }
     /// The box after preparation, per axis (m).
     std::vector<double> reference_box() const { return {box0_.begin(), box0_.end()}; }
     /// eps_zz = 1 - z / z0 of Eq. 17 (compression positive).

@@ -10,6 +10,7 @@
 
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <ctime>
 #include <filesystem>
 #include <fstream>
@@ -86,66 +87,151 @@ nlohmann::ordered_json parameters(const Config& c) {
             {"wall_friction", c.wall_friction}};
 }
 
+Config config_from_json(const nlohmann::ordered_json& j, Config c) {
+    const auto& p = j.at("parameters");
+    c.dim = p.at("dim");
+    c.preset = p.at("preset");
+    c.particles = p.at("particles");
+    c.radius_min = p.at("radius_min_m");
+    c.radius_max = p.at("radius_max_m");
+    c.density = p.at("density_kg_m3");
+    c.k = p.at("k_N_m");
+    c.gamma0 = p.at("gamma0_kg_s");
+    c.mu = p.at("mu");
+    c.mu_prepare = p.at("mu_prepare");
+    c.kt_ratio = p.at("kt_ratio");
+    c.gammat_ratio = p.at("gammat_ratio");
+    c.pressure = p.at("pressure");
+    c.period = p.at("period_s");
+    c.final_strain = p.at("final_strain");
+    c.relax = p.at("relax_s");
+    c.dt_fraction = p.at("dt_fraction");
+    c.seed = p.at("seed");
+    c.gamma_b = p.at("gamma_b_kg_s");
+    c.gamma_b_prepare = p.at("gamma_b_prepare_kg_s");
+    c.wall_mass = p.at("wall_mass_kg");
+    c.wall_damping = p.at("wall_damping_kg_s");
+    c.prepare_speed = p.at("prepare_speed_m_s");
+    c.prepare_kinetic_ratio = p.at("prepare_kinetic_ratio");
+    c.output_interval = p.at("output_interval_s");
+    c.box_factor = p.at("box_factor");
+    c.wall_friction = p.at("wall_friction");
+    return c;
+}
+
+/// What a run needs besides its configuration: where to start from and how often to save.
+struct Plan {
+    fs::path out;
+    std::string from_prepared;     // a prepared.state to start the loading from
+    bool resume = false;           // continue out/checkpoint.state
+    double checkpoint_every = 0;   // simulated seconds between checkpoints (0: none)
+    std::size_t stop_after_rows = 0;  // testing: die abruptly after this many rows, like a kill
+    bool quiet = false;
+};
+
 template <int dim>
-int run(const Config& c, const fs::path& out, bool quiet) {
-    const bool terminal = !quiet && isatty(STDOUT_FILENO);
+int run(const Config& c, const Plan& plan) {
+    const bool terminal = !plan.quiet && isatty(STDOUT_FILENO);
     const auto wall_start = std::chrono::steady_clock::now();
     const std::string started = now_iso();
+    const fs::path& out = plan.out;
     biaxial::Experiment<dim> exp(c);
-    exp.build();
     auto& sim = exp.simulation();
     const double n = static_cast<double>(c.particles);
 
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count(); };
     double last_print = -1.0;
+    std::size_t steps_before = 0;  // steps done in an earlier process (resume)
     auto progress = [&](const char* phase, double fraction, double strain) {
         if (!terminal || elapsed() - last_print < 0.5) return;
         last_print = elapsed();
-        const double rate = sim.steps_done() * n / std::max(elapsed(), 1e-9);
+        const double rate = (sim.steps_done() - steps_before) * n / std::max(elapsed(), 1e-9);
         const double left = fraction > 0 ? elapsed() * (1.0 - fraction) / fraction : 0.0;
         std::printf("\r%-9s strain %.4f  t = %.5f s  %.2e particle-steps/s  ~%.0f s left   ", phase, strain, sim.time(),
                     rate, left);
         std::fflush(stdout);
     };
+    auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
+        nlohmann::ordered_json j;
+        j["parameters"] = parameters(c);
+        j["bookkeeping"] = exp.bookkeeping();
+        j["rows"] = rows;
+        j["csv_bytes"] = csv_bytes;
+        return j.dump();
+    };
 
-    exp.prepare([&](const auto&) { progress("prepare", 0.0, 0.0); });
-    const double prepare_seconds = elapsed();
-    const std::size_t prepare_steps = sim.steps_done();
-    exp.start_loading();
+    const fs::path partial = out / "timeseries.csv.partial";
+    std::size_t rows_done = 0;
+    double prepare_seconds = 0.0;
+    std::size_t prepare_steps = 0;
+    std::ofstream csv;
+    if (plan.resume) {
+        const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, out / "checkpoint.state"));
+        exp.restore_bookkeeping(saved.at("bookkeeping").get<std::vector<double>>());
+        rows_done = saved.at("rows");
+        steps_before = sim.steps_done();
+        if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
+            micromacro::detail::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
+        fs::resize_file(partial, saved.at("csv_bytes").get<std::uintmax_t>());  // drop rows written after the checkpoint
+        csv.open(partial, std::ios::app);
+    } else {
+        if (plan.from_prepared.empty()) {
+            exp.build();
+            exp.prepare([&](const auto&) { progress("prepare", 0.0, 0.0); });
+            micromacro::io::save_state(sim, out / "prepared.state", settings(0, 0));
+        } else {
+            const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, plan.from_prepared));
+            if (saved.at("parameters").at("particles").get<std::size_t>() != c.particles)
+                micromacro::detail::throw_input_error(plan.from_prepared, " holds ",
+                                                      saved.at("parameters").at("particles").get<std::size_t>(),
+                                                      " particles, this run asks for ", c.particles, "; drop --particles");
+            steps_before = sim.steps_done();
+        }
+        prepare_seconds = elapsed();
+        prepare_steps = sim.steps_done();
+        exp.start_loading();
+        csv.open(partial, std::ios::trunc);
+    }
+    if (!csv) micromacro::detail::throw_input_error("cannot write ", partial.string());
 
     // Loading: one row per output interval, into a partial file renamed at the end.
-    const fs::path series = out / "timeseries.csv";
-    const fs::path partial = out / "timeseries.csv.partial";
-    std::ofstream csv(partial);
-    if (!csv) micromacro::detail::throw_input_error("cannot write ", partial.string());
-    bool header = false;
     auto write_row = [&] {
         const auto r = exp.row();
-        if (!header) {
+        if (rows_done == 0) {
             csv << "# units: time s, strains 1, walls m, stresses " << (dim == 2 ? "N/m" : "Pa") << ", stiffness "
                 << (dim == 2 ? "N/m" : "Pa") << ", fabric 1, energies J, phi_F rad\n";
             for (std::size_t i = 0; i < r.names.size(); ++i) csv << (i ? "," : "") << r.names[i];
             csv << "\n";
-            header = true;
         }
         for (std::size_t i = 0; i < r.values.size(); ++i) csv << (i ? "," : "") << csv_number(r.values[i]);
         csv << "\n";
+        ++rows_done;
     };
     const double dt = sim.time_step();
     const auto steps_per_row = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c.output_interval / dt)));
-    const auto total_rows = static_cast<std::size_t>(std::ceil((exp.load_end() - exp.load_start()) / (steps_per_row * dt)));
-    write_row();
-    for (std::size_t row = 0; row < total_rows; ++row) {
+    const auto total_rows = 1 + static_cast<std::size_t>(std::ceil((exp.load_end() - exp.load_start()) / (steps_per_row * dt)));
+    if (rows_done == 0) write_row();
+    double last_checkpoint = sim.time();
+    while (rows_done < total_rows) {
         sim.run(steps_per_row);
         write_row();
-        progress("load", double(row + 1) / total_rows, exp.eps_zz());
+        progress("load", double(rows_done) / total_rows, exp.eps_zz());
+        if (plan.checkpoint_every > 0 && sim.time() - last_checkpoint >= plan.checkpoint_every - 0.5 * dt) {
+            csv.flush();
+            micromacro::io::save_state(sim, out / "checkpoint.state", settings(rows_done, fs::file_size(partial)));
+            last_checkpoint = sim.time();
+        }
+        if (plan.stop_after_rows && rows_done >= plan.stop_after_rows) {
+            csv.flush();
+            std::_Exit(3);  // no clean-up, as if killed
+        }
     }
     csv.close();
     if (!csv) micromacro::detail::throw_input_error("cannot finish ", partial.string());
-    fs::rename(partial, series);
+    fs::rename(partial, out / "timeseries.csv");
 
     const double seconds = elapsed();
-    const double pps = sim.steps_done() * n / seconds;
+    const double pps = (sim.steps_done() - steps_before) * n / seconds;
     const double tc = c.contact_duration();
     // Inertial number I = (d eps/dt) d sqrt(rho / p) at the peak rate of Eq. 17, eps_f pi / T, with
     // the mean diameter d; in 2D rho is the sphere mass per disk area, 4/3 rho a.
@@ -172,10 +258,12 @@ int run(const Config& c, const fs::path& out, bool quiet) {
                     {"background_drag_over_pL_at_peak_rate", background_drag},
                     {"wall_oscillation_time_s", 2.0 * M_PI * std::sqrt(c.wall_mass / c.k)},
                     {"wall_damping_time_s", c.wall_damping > 0 ? 2.0 * c.wall_mass / c.wall_damping : 0.0},
-                    {"box_after_preparation_m", exp.reference_box()},
+                    {"box_after_preparation_m", box},
                     {"final_eps_zz", exp.eps_zz()}};
     j["timing"] = {{"started", started},
                    {"finished", now_iso()},
+                   {"resumed", plan.resume},
+                   {"from_prepared", plan.from_prepared},
                    {"wall_seconds", seconds},
                    {"prepare_wall_seconds", prepare_seconds},
                    {"steps", sim.steps_done()},
@@ -184,7 +272,7 @@ int run(const Config& c, const fs::path& out, bool quiet) {
     write_atomically(out / "run.json", j.dump(2) + "\n");
     if (terminal) std::printf("\n");
     std::printf("biaxial %dD: %zu particles, %zu steps in %.1f s (%.3g particle-steps/s); results in %s\n", dim,
-                c.particles, sim.steps_done(), seconds, pps, out.string().c_str());
+                c.particles, sim.steps_done() - steps_before, seconds, pps, out.string().c_str());
     return 0;
 }
 
@@ -198,7 +286,19 @@ int main(int argc, char** argv) {
                  "stress-controlled side wall (Eq. 18), relaxation; averages in the inner box."};
     app.add_option("--dim", c.dim, "2 (biaxial) or 3 (triaxial box)")->capture_default_str();
     app.add_option("--preset", preset, "paper (N = 1950, T = 1 s) or quick (N = 300, T = 0.1 s)")->capture_default_str();
-    app.add_option("--out", out, "output directory (created)")->required();
+    Plan plan;
+    std::string resume;
+    auto* out_option = app.add_option("--out", out, "output directory (created)");
+    app.add_option("--from-prepared", plan.from_prepared, "start the loading from a prepared.state of an earlier run")
+        ->check(CLI::ExistingFile);
+    app.add_option("--checkpoint-every", plan.checkpoint_every,
+                   "write DIR/checkpoint.state every this many simulated seconds of the loading (0: never)")
+        ->capture_default_str();
+    app.add_option("--stop-after-rows", plan.stop_after_rows, "testing restarts: die after this many rows, as a kill would")
+        ->group("");  // hidden
+    app.add_option("--resume", resume, "continue the killed run in this directory from its checkpoint.state")
+        ->excludes(out_option)
+        ->check(CLI::ExistingDirectory);
     // Options that override the preset: collected first, applied after it.
     auto* particles = app.add_option("--particles", "number of particles");
     auto* pressure = app.add_option("--pressure", "side pressure p (N/m in 2D, Pa in 3D; default 20 and 1e4)");
@@ -220,6 +320,18 @@ int main(int argc, char** argv) {
     CLI11_PARSE(app, argc, argv);
 
     try {
+        if (out.empty() && resume.empty()) micromacro::detail::throw_input_error("give --out DIR (or --resume DIR)");
+        plan.quiet = quiet;
+        if (!resume.empty()) {  // everything comes from the checkpoint
+            plan.out = resume;
+            plan.resume = true;
+            const fs::path checkpoint = plan.out / "checkpoint.state";
+            if (!fs::exists(checkpoint))
+                micromacro::detail::throw_input_error(checkpoint.string(), " does not exist; was the run started with --checkpoint-every?");
+            // The settings are the text saved with the state (they say which dimension to restore).
+            c = config_from_json(nlohmann::ordered_json::parse(micromacro::io::state_text(checkpoint)), c);
+            return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
+        }
         biaxial::apply_preset(c, preset);
         auto set = [](CLI::Option* o, auto& field) {
             if (o->count()) field = o->as<std::decay_t<decltype(field)>>();
@@ -240,14 +352,19 @@ int main(int argc, char** argv) {
         set(mw, c.wall_mass);
         set(gw, c.wall_damping);
         set(interval, c.output_interval);
+        if (!plan.from_prepared.empty() && !particles->count())  // the prepared state decides
+            c.particles = nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared))
+                              .at("parameters").at("particles").get<std::size_t>();
         biaxial::validate(c);
+        micromacro::detail::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
         std::error_code ec;
         fs::create_directories(out, ec);
         const fs::path probe = fs::path(out) / ".write_test";
         if (ec || !std::ofstream(probe))
             micromacro::detail::throw_input_error("--out ", out, " is not a writable directory");
         fs::remove(probe, ec);
-        return c.dim == 2 ? run<2>(c, out, quiet) : run<3>(c, out, quiet);
+        plan.out = out;
+        return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "biaxial: %s\n", e.what());
         return 1;

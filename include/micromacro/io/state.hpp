@@ -107,13 +107,12 @@ void save_state(Sim& sim, const std::filesystem::path& path, std::string extra =
     std::filesystem::rename(partial, path);
 }
 
-/// Restores a state saved by save_state into `sim` and returns the extra text. Refuses files of
-/// another format, version or scene (for example the other dimension), naming both.
-template <class Sim>
-std::string load_state(Sim& sim, const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) micromacro::detail::throw_input_error("cannot open the state file ", path.string());
-    detail::StateReader r(in, path.string());
+namespace detail {
+struct StateHeader {
+    std::string signature, text;
+};
+
+inline StateHeader read_state_header(StateReader& r, const std::filesystem::path& path) {
     char magic[sizeof detail::state_magic] = {};
     r.raw_bytes(magic, sizeof magic);
     if (std::memcmp(magic, detail::state_magic, sizeof magic) != 0)
@@ -123,16 +122,35 @@ std::string load_state(Sim& sim, const std::filesystem::path& path) {
     if (version != detail::state_version)
         micromacro::detail::throw_input_error(path.string(), " has state format ", version, ", this build reads ",
                                               detail::state_version);
-    std::vector<char> sig;
+    std::vector<char> sig, text;
     r.array(sig);
-    const std::string saved(sig.begin(), sig.end()), wanted = detail::signature<Sim>();
-    if (saved != wanted)
-        micromacro::detail::throw_input_error(path.string(), " holds a different scene (", saved, ") than this run (", wanted,
-                                              ")");
-    std::vector<char> text;
     r.array(text);
+    return {{sig.begin(), sig.end()}, {text.begin(), text.end()}};
+}
+}  // namespace detail
+
+/// The extra text saved with a state, without restoring it (e.g. to learn which scene to build).
+inline std::string state_text(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) micromacro::detail::throw_input_error("cannot open the state file ", path.string());
+    detail::StateReader r(in, path.string());
+    return detail::read_state_header(r, path).text;
+}
+
+/// Restores a state saved by save_state into `sim` and returns the extra text. Refuses files of
+/// another format, version or scene (for example the other dimension), naming both.
+template <class Sim>
+std::string load_state(Sim& sim, const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) micromacro::detail::throw_input_error("cannot open the state file ", path.string());
+    detail::StateReader r(in, path.string());
+    const auto header = detail::read_state_header(r, path);
+    const std::string wanted = detail::signature<Sim>();
+    if (header.signature != wanted)
+        micromacro::detail::throw_input_error(path.string(), " holds a different scene (", header.signature, ") than this run (",
+                                              wanted, ")");
     sim.serialize(r);
-    return {text.begin(), text.end()};
+    return header.text;
 }
 
 }  // namespace micromacro::io
