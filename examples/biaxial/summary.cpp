@@ -1,0 +1,87 @@
+// biaxial_summary: the key numbers of a biaxial run as a Markdown table (the README's table).
+//
+//   biaxial_summary runs/paper
+//
+// Reads DIR/timeseries.csv and DIR/run.json. The peak is the row of the largest stress ratio
+// (sigma_zz - sigma_xx) / (sigma_zz + sigma_xx) of the inner box during the motion; the
+// "critical state" values are means over the last quarter of the motion (eps_zz from 3/4 of
+// the final strain on).
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+int main(int argc, char** argv) {
+    if (argc != 2) {
+        std::fprintf(stderr, "usage: biaxial_summary RUN_DIRECTORY\n");
+        return 2;
+    }
+    const std::string dir = argv[1];
+    std::ifstream in(dir + "/timeseries.csv");
+    std::ifstream run_json(dir + "/run.json");
+    if (!in || !run_json) {
+        std::fprintf(stderr, "biaxial_summary: %s has no timeseries.csv or run.json\n", dir.c_str());
+        return 1;
+    }
+    std::map<std::string, std::vector<double>> col;
+    std::vector<std::string> names;
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#') continue;
+        std::stringstream s(line);
+        std::string f;
+        std::vector<std::string> fields;
+        while (std::getline(s, f, ',')) fields.push_back(f);
+        if (names.empty()) {
+            names = fields;
+            continue;
+        }
+        for (std::size_t i = 0; i < fields.size(); ++i) col[names[i]].push_back(std::stod(fields[i]));
+    }
+    const auto run = nlohmann::json::parse(run_json);
+    const int dim = run["parameters"]["dim"];
+    const std::string z = dim == 2 ? "22" : "33", zzzz = dim == 2 ? "2222" : "3333";
+    const double final_strain = run["parameters"]["final_strain"];
+    const auto& ezz = col.at("strain_" + z);
+    auto ratio = [&](std::size_t r) {
+        const double a = col.at("sigma_" + z)[r], b = col.at("sigma_11")[r];
+        return (a - b) / (a + b);
+    };
+    std::size_t peak = 0, fabric_peak = 0, motion_end = 0;
+    for (std::size_t r = 0; r < ezz.size(); ++r) {
+        if (ezz[r] < final_strain - 1e-12) motion_end = r;
+        else continue;
+        if (ratio(r) > ratio(peak)) peak = r;
+        if (col.at("deviatoric_fabric")[r] > col.at("deviatoric_fabric")[fabric_peak]) fabric_peak = r;
+    }
+    auto late_mean = [&](auto value) {
+        double sum = 0;
+        int n = 0;
+        for (std::size_t r = 0; r <= motion_end; ++r)
+            if (ezz[r] >= 0.75 * final_strain) sum += value(r), ++n;
+        return n ? sum / n : NAN;
+    };
+    auto C_ratio = [&](std::size_t r) { return col.at("C_n_" + zzzz)[r] / col.at("C_n_1111")[r]; };
+    std::printf("| quantity | value |\n|---|---|\n");
+    std::printf("| particles, dimension | %d, %dD |\n", int(run["parameters"]["particles"]), dim);
+    std::printf("| peak stress ratio (s_zz - s_xx)/(s_zz + s_xx) | %.3f at eps_zz = %.3f |\n", ratio(peak), ezz[peak]);
+    std::printf("| maximum deviatoric fabric | %.3f at eps_zz = %.3f (tr F there %.3f) |\n", col.at("deviatoric_fabric")[fabric_peak],
+                ezz[fabric_peak], col.at("trF")[fabric_peak]);
+    std::printf("| C_n_zzzz / C_n_1111 at the stress peak | %.3f |\n", C_ratio(peak));
+    std::printf("| g2 (start, peak) | %.3f, %.3f |\n", col.at("g2")[0], col.at("g2")[peak]);
+    std::printf("| volumetric strain (max compaction, end of motion) | %.4f, %.4f |\n",
+                *std::max_element(col.at("volumetric_strain").begin(), col.at("volumetric_strain").begin() + motion_end + 1),
+                col.at("volumetric_strain")[motion_end]);
+    std::printf("| late stress ratio, deviatoric fabric, C_n_zzzz/C_n_1111 | %.3f, %.3f, %.3f |\n", late_mean(ratio),
+                late_mean([&](std::size_t r) { return col.at("deviatoric_fabric")[r]; }), late_mean(C_ratio));
+    std::printf("| late coordination, volume fraction | %.3f, %.4f |\n", late_mean([&](std::size_t r) { return col.at("coordination")[r]; }),
+                late_mean([&](std::size_t r) { return col.at("volume_fraction")[r]; }));
+    std::printf("| cost | %.0f s wall, %.3g particle-steps/s, %.3g steps |\n", double(run["timing"]["wall_seconds"]),
+                double(run["timing"]["particle_steps_per_second"]), double(run["timing"]["steps"]));
+    return 0;
+}
