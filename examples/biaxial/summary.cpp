@@ -6,6 +6,7 @@
 // (sigma_zz - sigma_xx) / (sigma_zz + sigma_xx) of the inner box during the motion; the
 // "critical state" values are means over the last quarter of the motion (eps_zz from 3/4 of
 // the final strain on).
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <fstream>
@@ -16,32 +17,19 @@
 
 #include <nlohmann/json.hpp>
 
+#include "timeseries.hpp"
+
 int main(int argc, char** argv) {
     if (argc != 2) {
         std::fprintf(stderr, "usage: biaxial_summary RUN_DIRECTORY\n");
         return 2;
     }
     const std::string dir = argv[1];
-    std::ifstream in(dir + "/timeseries.csv");
     std::ifstream run_json(dir + "/run.json");
-    if (!in || !run_json) {
+    const auto col = biaxial::read_timeseries(dir + "/timeseries.csv");
+    if (!run_json || col.empty()) {
         std::fprintf(stderr, "biaxial_summary: %s has no timeseries.csv or run.json\n", dir.c_str());
         return 1;
-    }
-    std::map<std::string, std::vector<double>> col;
-    std::vector<std::string> names;
-    std::string line;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        std::stringstream s(line);
-        std::string f;
-        std::vector<std::string> fields;
-        while (std::getline(s, f, ',')) fields.push_back(f);
-        if (names.empty()) {
-            names = fields;
-            continue;
-        }
-        for (std::size_t i = 0; i < fields.size(); ++i) col[names[i]].push_back(std::stod(fields[i]));
     }
     const auto run = nlohmann::json::parse(run_json);
     const int dim = run["parameters"]["dim"];

@@ -14,32 +14,16 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/programs.hpp"
 #include "support/scenes.hpp"
 
 using namespace mmtest;
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-    int status;
-    std::string out, err;
-};
-
 const fs::path work = fs::temp_directory_path() / "micromacro_analyze_packing_test";
 
-Result run(const std::string& args) {
-    fs::create_directories(work);
-    const auto out = work / "stdout.txt", err = work / "stderr.txt";
-    const std::string command = std::string(ANALYZE_PACKING) + " " + args + " > " + out.string() + " 2> " + err.string();
-    const int status = std::system(command.c_str());
-    auto slurp = [](const fs::path& p) {
-        std::ifstream in(p);
-        std::stringstream s;
-        s << in.rdbuf();
-        return s.str();
-    };
-    return {status, slurp(out), slurp(err)};
-}
+mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(ANALYZE_PACKING, args, work); }
 
 std::string write(const std::string& name, const std::string& text) {
     fs::create_directories(work);

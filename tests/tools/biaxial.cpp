@@ -12,56 +12,18 @@
 #include <string>
 #include <vector>
 
+#include "biaxial/timeseries.hpp"
+#include "support/programs.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
 const fs::path work = fs::temp_directory_path() / "micromacro_biaxial_test";
 
-struct Result {
-    int status;
-    std::string out, err;
-};
+mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(BIAXIAL, args, work); }
+using mmtest::slurp;
 
-Result run(const std::string& args) {
-    fs::create_directories(work);
-    const auto out = work / "stdout.txt", err = work / "stderr.txt";
-    const int status = std::system((std::string(BIAXIAL) + " " + args + " > " + out.string() + " 2> " + err.string()).c_str());
-    auto slurp = [](const fs::path& p) {
-        std::ifstream in(p);
-        std::stringstream s;
-        s << in.rdbuf();
-        return s.str();
-    };
-    return {status, slurp(out), slurp(err)};
-}
-
-std::string slurp(const fs::path& p) {
-    std::ifstream in(p);
-    std::stringstream s;
-    s << in.rdbuf();
-    return s.str();
-}
-
-// timeseries.csv as columns by name.
-std::map<std::string, std::vector<double>> read_series(const fs::path& p) {
-    std::ifstream in(p);
-    std::string line;
-    std::vector<std::string> names;
-    std::map<std::string, std::vector<double>> columns;
-    while (std::getline(in, line)) {
-        if (line.empty() || line[0] == '#') continue;
-        std::stringstream s(line);
-        std::string field;
-        std::vector<std::string> fields;
-        while (std::getline(s, field, ',')) fields.push_back(field);
-        if (names.empty()) {
-            names = fields;
-            continue;
-        }
-        for (std::size_t i = 0; i < fields.size(); ++i) columns[names[i]].push_back(std::stod(fields[i]));
-    }
-    return columns;
-}
+std::map<std::string, std::vector<double>> read_series(const fs::path& p) { return biaxial::read_timeseries(p.string()); }
 
 // One short 2D run shared by the physics checks: 600 particles, T = 0.1 s, eps_f = 0.3.
 const std::map<std::string, std::vector<double>>& physics_run() {
