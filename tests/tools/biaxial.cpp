@@ -177,3 +177,32 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
     BOOST_TEST(r.status != 0);
     BOOST_TEST(r.err.find("is not a writable directory") != std::string::npos, r.err);
 }
+
+// The triaxial box (--dim 3), short: both stress-controlled side walls hold p, the packing
+// stiffens against the compression, the books close, and in every row the exact 3D identity
+// sum_b C^t_1b1b = (dim - 1) alpha sum_b C^n_1b1b of the full tangential projector holds.
+BOOST_AUTO_TEST_CASE(triaxial_box) {
+    const auto dir = work / "triaxial";
+    const auto r = run("--dim 3 --preset quick --particles 400 --period 0.04 --relax 0.01 --quiet --out " + dir.string());
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    const auto s = read_series(dir / "timeseries.csv");
+    const double p = 1e4;
+    BOOST_TEST(std::abs(s.at("sigma_wall_11_upper").back() / p - 1.0) < 0.02);
+    BOOST_TEST(std::abs(s.at("sigma_wall_22_upper").back() / p - 1.0) < 0.02);
+    BOOST_TEST(s.at("F_33").back() > s.at("F_11").back());
+    BOOST_TEST(s.at("C_n_3333").back() > s.at("C_n_1111").back());
+    // While the top wall moves, the loaded axis carries clearly more than the confined ones.
+    std::size_t mid = 0;
+    while (s.at("strain_33")[mid] < 0.15) ++mid;
+    BOOST_TEST(s.at("sigma_33")[mid] > 1.2 * s.at("sigma_11")[mid]);
+    BOOST_TEST(s.at("sigma_wall_33")[mid] > 1.2 * p);
+    const double alpha = 0.2;
+    for (std::size_t row = 0; row < s.at("time").size(); ++row) {
+        auto C = [&](const std::string& name) { return s.at(name)[row]; };
+        const double tangential = C("C_t_1111") + C("C_t_1212") + C("C_t_1313");
+        const double normal = C("C_n_1111") + C("C_n_1212") + C("C_n_1313");
+        BOOST_TEST_REQUIRE(std::abs(tangential - 2 * alpha * normal) <= 1e-12 * normal);
+        const double residual = C("kinetic_energy") + C("elastic_energy") + C("dissipated_energy") - C("work_by_walls");
+        BOOST_TEST_REQUIRE(std::abs(residual) < 1e-2 * C("work_by_walls"));
+    }
+}
