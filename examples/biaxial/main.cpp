@@ -22,6 +22,9 @@
 #include <nlohmann/json.hpp>
 
 #include "biaxial.hpp"
+#ifdef MICROMACRO_HAVE_VTK
+#include <micromacro/io/vtk.hpp>
+#endif
 
 namespace fs = std::filesystem;
 using biaxial::Config;
@@ -126,6 +129,7 @@ struct Plan {
     bool resume = false;           // continue out/checkpoint.state
     double checkpoint_every = 0;   // simulated seconds between checkpoints (0: none)
     std::size_t stop_after_rows = 0;  // testing: die abruptly after this many rows, like a kill
+    std::size_t vtk_every_rows = 20;  // a VTK frame every this many rows (0: none)
     bool quiet = false;
 };
 
@@ -151,12 +155,34 @@ int run(const Config& c, const Plan& plan) {
                     rate, left);
         std::fflush(stdout);
     };
+    // VTK frames (where VTK was found at build time): particles, contacts and walls every
+    // vtk_every_rows rows, each series with its .pvd collection.
+    std::vector<double> vtk_times;
+    auto write_vtk = [&] {
+#ifdef MICROMACRO_HAVE_VTK
+        if (plan.vtk_every_rows == 0) return;
+        const fs::path dir = out / "vtk";
+        fs::create_directories(dir);
+        const std::string k = std::to_string(vtk_times.size());
+        const auto snapshot = micromacro::take_snapshot(sim);
+        micromacro::io::write_particles(micromacro::io::particle_frame(sim), dir / ("particles_" + k + ".vtp"));
+        micromacro::io::write_contacts(snapshot, dir / ("contacts_" + k + ".vtp"));
+        micromacro::io::write_walls(snapshot, dir / ("walls_" + k + ".vtp"));
+        vtk_times.push_back(sim.time() - exp.load_start());
+        for (const std::string series : {"particles", "contacts", "walls"}) {
+            micromacro::io::PvdCollection pvd(dir / (series + ".pvd"));
+            for (std::size_t f = 0; f < vtk_times.size(); ++f) pvd.add(vtk_times[f], series + "_" + std::to_string(f) + ".vtp");
+            pvd.write();
+        }
+#endif
+    };
     auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
         nlohmann::ordered_json j;
         j["parameters"] = parameters(c);
         j["bookkeeping"] = exp.bookkeeping();
         j["rows"] = rows;
         j["csv_bytes"] = csv_bytes;
+        j["vtk_times"] = vtk_times;
         return j.dump();
     };
 
@@ -169,6 +195,7 @@ int run(const Config& c, const Plan& plan) {
         const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, out / "checkpoint.state"));
         exp.restore_bookkeeping(saved.at("bookkeeping").get<std::vector<double>>());
         rows_done = saved.at("rows");
+        vtk_times = saved.at("vtk_times").get<std::vector<double>>();
         steps_before = sim.steps_done();
         if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
             micromacro::detail::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
@@ -205,6 +232,7 @@ int run(const Config& c, const Plan& plan) {
         }
         for (std::size_t i = 0; i < r.values.size(); ++i) csv << (i ? "," : "") << csv_number(r.values[i]);
         csv << "\n";
+        if (plan.vtk_every_rows && rows_done % plan.vtk_every_rows == 0) write_vtk();
         ++rows_done;
     };
     const double dt = sim.time_step();
@@ -293,6 +321,8 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile);
     app.add_option("--checkpoint-every", plan.checkpoint_every,
                    "write DIR/checkpoint.state every this many simulated seconds of the loading (0: never)")
+        ->capture_default_str();
+    app.add_option("--vtk-every", plan.vtk_every_rows, "write VTK frames (vtk/*.vtp, *.pvd) every this many rows (0: none)")
         ->capture_default_str();
     app.add_option("--stop-after-rows", plan.stop_after_rows, "testing restarts: die after this many rows, as a kill would")
         ->group("");  // hidden
