@@ -1,0 +1,224 @@
+// render_snapshot: a picture like the paper's Fig. 3 from a particles .vtp (or one step of a
+// .pvd): filled disks at their true radius (spheres in 3D) coloured by potential energy (red and
+// green high, through blue to black low), a colour bar, the walls, optionally the force network.
+//
+//   xvfb-run -a -s "-screen 0 1280x1024x24" render_snapshot vtk/particles.pvd --step -1
+//       --walls vtk/walls_10.vtp --contacts vtk/contacts_10.vtp -o snapshot.png   (one line)
+//
+// VTK 9.1 from Debian renders only through an X server: on a machine without a display run it
+// under xvfb-run as above (Mesa software rendering, well under a second a frame).
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <vtkActor.h>
+#include <vtkCamera.h>
+#include <vtkColorTransferFunction.h>
+#include <vtkDoubleArray.h>
+#include <vtkGlyph3DMapper.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPointData.h>
+#include <vtkPolyData.h>
+#include <vtkPolyDataMapper.h>
+#include <vtkProperty.h>
+#include <vtkRegularPolygonSource.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkScalarBarActor.h>
+#include <vtkSphereSource.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+#include <vtkXMLPolyDataReader.h>
+
+#include "snapshot_view.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+[[noreturn]] void fail(const std::string& what) {
+    throw std::runtime_error(what);
+}
+
+/// The file of step `step` (negative: from the end) of a .pvd collection, or the file itself.
+fs::path resolve(const fs::path& input, int step) {
+    if (input.extension() != ".pvd") return input;
+    std::ifstream in(input);
+    if (!in) fail("cannot open " + input.string());
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    std::vector<std::string> files;
+    const std::regex file_attr("file=\"([^\"]+)\"");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), file_attr); it != std::sregex_iterator(); ++it)
+        files.push_back((*it)[1]);
+    if (files.empty()) fail(input.string() + " lists no data sets");
+    const int n = static_cast<int>(files.size());
+    const int index = step < 0 ? n + step : step;
+    if (index < 0 || index >= n) fail("--step " + std::to_string(step) + " is outside the " + std::to_string(n) + " steps of " + input.string());
+    return input.parent_path() / files[static_cast<std::size_t>(index)];
+}
+
+vtkSmartPointer<vtkPolyData> read(const fs::path& p) {
+    if (!fs::is_regular_file(p)) fail("cannot read " + p.string() + ": no such file");
+    vtkNew<vtkXMLPolyDataReader> reader;
+    reader->SetFileName(p.string().c_str());
+    reader->Update();
+    vtkSmartPointer<vtkPolyData> data = reader->GetOutput();
+    if (!data || data->GetNumberOfPoints() == 0) fail(p.string() + " holds no points (not a particles .vtp?)");
+    return data;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string input, walls, contacts, output = "snapshot.png", size = "1000x800";
+    int step = -1;
+    bool three_d = false;
+    CLI::App app{"Render particles coloured by potential energy (the paper's Fig. 3) to a PNG, off-screen. "
+                 "Needs an X server: run under xvfb-run -a -s \"-screen 0 1280x1024x24\" on a machine without a display."};
+    app.add_option("input", input, "particles .vtp, or a .pvd collection (see --step)")->required();
+    app.add_option("--step", step, "which step of a .pvd (negative counts from the end)")->capture_default_str();
+    app.add_option("--walls", walls, "walls .vtp to draw");
+    app.add_option("--contacts", contacts, "contacts .vtp: overlay the force network (line width ~ normal force)");
+    app.add_option("-o,--output", output, "PNG file to write")->capture_default_str();
+    app.add_option("--size", size, "image size WIDTHxHEIGHT in pixels")->capture_default_str();
+    app.add_flag("--3d", three_d, "draw spheres with lighting (default: flat disks in the plane z = 0)");
+    CLI11_PARSE(app, argc, argv);
+    try {
+        const char* display = std::getenv("DISPLAY");
+        if (!display || !*display)
+            fail("no X display (DISPLAY is unset); VTK from Debian renders only through X: run under "
+                 "xvfb-run -a -s \"-screen 0 1280x1024x24\" render_snapshot ...");
+        std::smatch m;
+        if (!std::regex_match(size, m, std::regex("([0-9]+)x([0-9]+)"))) fail("--size '" + size + "' is not WIDTHxHEIGHT");
+        const int width = std::stoi(m[1]), height = std::stoi(m[2]);
+        if (width < 16 || height < 16 || width > 8192 || height > 8192) fail("--size " + size + " is outside 16..8192 pixels");
+        const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
+        if (!fs::is_directory(out_dir)) fail("cannot write " + output + ": the directory " + out_dir.string() + " does not exist");
+
+        const auto particles = read(resolve(input, step));
+        auto* energy = particles->GetPointData()->GetArray("potential_energy");
+        auto* radius = particles->GetPointData()->GetArray("radius");
+        if (!energy || !radius) fail(input + " has no potential_energy or radius array");
+        double range[2];
+        energy->GetRange(range);
+        if (range[1] <= range[0]) range[1] = range[0] + 1e-300;
+
+        vtkNew<vtkColorTransferFunction> colours;
+        for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
+            const auto c = viz::energy_colour(u);
+            colours->AddRGBPoint(range[0] + u * (range[1] - range[0]), c[0], c[1], c[2]);
+        }
+        vtkNew<vtkGlyph3DMapper> glyphs;
+        glyphs->SetInputData(particles);
+        vtkNew<vtkRegularPolygonSource> disk;
+        disk->SetNumberOfSides(48);
+        disk->SetRadius(1.0);
+        vtkNew<vtkSphereSource> sphere;
+        sphere->SetRadius(1.0);
+        sphere->SetThetaResolution(24);
+        sphere->SetPhiResolution(16);
+        if (three_d) glyphs->SetSourceConnection(sphere->GetOutputPort());
+        else glyphs->SetSourceConnection(disk->GetOutputPort());
+        glyphs->SetScaleArray("radius");
+        glyphs->SetScaleModeToScaleByMagnitude();
+        glyphs->SetScalarModeToUsePointFieldData();
+        glyphs->SelectColorArray("potential_energy");
+        glyphs->SetLookupTable(colours);
+        glyphs->SetScalarRange(range);
+        glyphs->ScalarVisibilityOn();
+        vtkNew<vtkActor> actor;
+        actor->SetMapper(glyphs);
+        if (!three_d) actor->GetProperty()->LightingOff();  // exact colour-map colours on flat disks
+
+        vtkNew<vtkRenderer> renderer;
+        renderer->SetBackground(viz::background[0], viz::background[1], viz::background[2]);
+        renderer->AddActor(actor);
+
+        double bounds[6];
+        particles->GetBounds(bounds);
+        double rmax = radius->GetRange()[1];
+        double xlo = bounds[0] - rmax, xhi = bounds[1] + rmax, ylo = bounds[2] - rmax, yhi = bounds[3] + rmax;
+        if (!walls.empty()) {
+            vtkNew<vtkXMLPolyDataReader> reader;
+            if (!fs::is_regular_file(walls)) fail("cannot read " + walls + ": no such file");
+            reader->SetFileName(walls.c_str());
+            reader->Update();
+            double wb[6];
+            reader->GetOutput()->GetBounds(wb);
+            xlo = wb[0], xhi = wb[1], ylo = wb[2], yhi = wb[3];
+            vtkNew<vtkPolyDataMapper> wm;
+            wm->SetInputConnection(reader->GetOutputPort());
+            wm->ScalarVisibilityOff();
+            vtkNew<vtkActor> wa;
+            wa->SetMapper(wm);
+            wa->GetProperty()->SetColor(0.3, 0.3, 0.3);
+            wa->GetProperty()->SetLineWidth(3.0);
+            wa->GetProperty()->LightingOff();
+            if (three_d) wa->GetProperty()->SetOpacity(0.15);
+            renderer->AddActor(wa);
+        }
+        if (!contacts.empty()) {
+            vtkNew<vtkXMLPolyDataReader> reader;
+            if (!fs::is_regular_file(contacts)) fail("cannot read " + contacts + ": no such file");
+            reader->SetFileName(contacts.c_str());
+            reader->Update();
+            vtkNew<vtkPolyDataMapper> cm;
+            cm->SetInputConnection(reader->GetOutputPort());
+            cm->ScalarVisibilityOff();
+            vtkNew<vtkActor> ca;
+            ca->SetMapper(cm);
+            ca->GetProperty()->SetColor(1.0, 1.0, 1.0);
+            ca->GetProperty()->SetLineWidth(1.5);
+            ca->GetProperty()->LightingOff();
+            ca->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
+            renderer->AddActor(ca);
+        }
+
+        vtkNew<vtkScalarBarActor> bar;
+        bar->SetLookupTable(colours);
+        bar->SetTitle("potential energy (J)");
+        bar->SetNumberOfLabels(5);
+        bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+        bar->GetPositionCoordinate()->SetValue(0.87, 0.1);
+        bar->SetWidth(0.11);
+        bar->SetHeight(0.8);
+        for (auto* t : {bar->GetTitleTextProperty(), bar->GetLabelTextProperty()}) t->SetColor(0, 0, 0);
+        renderer->AddActor2D(bar);
+
+        const auto view = viz::View::fit(xlo, xhi, ylo, yhi, width, height);
+        auto* camera = renderer->GetActiveCamera();
+        camera->ParallelProjectionOn();
+        camera->SetFocalPoint(view.camera_x(), view.cy, 0.0);
+        camera->SetPosition(view.camera_x(), view.cy, 10.0 * (yhi - ylo + xhi - xlo));
+        camera->SetViewUp(0, 1, 0);
+        camera->SetParallelScale(view.half_height);
+        renderer->ResetCameraClippingRange();
+
+        vtkNew<vtkRenderWindow> window;
+        window->SetOffScreenRendering(1);
+        window->SetSize(width, height);
+        window->AddRenderer(renderer);
+        window->Render();
+        vtkNew<vtkWindowToImageFilter> grab;
+        grab->SetInput(window);
+        grab->ReadFrontBufferOff();
+        grab->Update();
+        const std::string partial = output + ".partial.png";
+        vtkNew<vtkPNGWriter> png;
+        png->SetFileName(partial.c_str());
+        png->SetInputConnection(grab->GetOutputPort());
+        png->Write();
+        if (!fs::is_regular_file(partial)) fail("cannot write " + output);
+        fs::rename(partial, output);
+        std::printf("render_snapshot: %s (%dx%d, %lld particles, energy %g..%g J)\n", output.c_str(), width, height,
+                    static_cast<long long>(particles->GetNumberOfPoints()), range[0], range[1]);
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "render_snapshot: %s\n", e.what());
+        return 1;
+    }
+}

@@ -1,0 +1,47 @@
+#pragma once
+// What render_snapshot draws where, shared with its test: the paper's colour map (Fig. 3) and the
+// mapping from world coordinates to image pixels.
+#include <algorithm>
+#include <array>
+#include <cmath>
+
+namespace viz {
+
+/// The colour of a normalised potential energy u in [0, 1]: black (0), blue (1/3), green (2/3),
+/// red (1), linear in between: "decaying from red, green (bright) to blue and black (dark)".
+inline std::array<double, 3> energy_colour(double u) {
+    u = std::clamp(u, 0.0, 1.0);
+    static constexpr std::array<std::array<double, 3>, 4> stops{{{0, 0, 0}, {0, 0, 1}, {0, 1, 0}, {1, 0, 0}}};
+    const double x = 3.0 * u;
+    const int k = std::min(2, static_cast<int>(x));
+    const double t = x - k;
+    return {stops[k][0] + t * (stops[k + 1][0] - stops[k][0]), stops[k][1] + t * (stops[k + 1][1] - stops[k][1]),
+            stops[k][2] + t * (stops[k + 1][2] - stops[k][2])};
+}
+
+inline constexpr std::array<double, 3> background = {1.0, 1.0, 1.0};
+
+/// The view: the box [lo, hi] (x, y of the image plane) fills the left 85% of the image (the
+/// colour bar takes the rest) with a 5% margin on its tighter side.
+struct View {
+    double cx, cy;      ///< world point at the middle of the drawing area
+    double half_height; ///< world half-height of the image (the camera's parallel scale)
+    int width, height;
+
+    static View fit(double xlo, double xhi, double ylo, double yhi, int width, int height) {
+        const double area_aspect = 0.85 * width / height;
+        const double half = 0.5 * 1.05 * std::max(yhi - ylo, (xhi - xlo) / area_aspect);
+        return {0.5 * (xlo + xhi), 0.5 * (ylo + yhi), half, width, height};
+    }
+    /// World x at the image centre (where the camera looks).
+    double camera_x() const { return cx + (0.5 - 0.425) * width * (2.0 * half_height / height); }
+    /// Pixel column and row (row 0 at the top) of a world point.
+    std::array<int, 2> pixel(double x, double y) const {
+        const double scale = 0.5 * height / half_height;  // pixels per metre
+        const double px = 0.425 * width + (x - cx) * scale;
+        const double py = 0.5 * height + (y - cy) * scale;
+        return {static_cast<int>(std::floor(px)), height - 1 - static_cast<int>(std::floor(py))};
+    }
+};
+
+}  // namespace viz
