@@ -231,7 +231,7 @@ public:
     Row row() const {
         Row r;
         const auto s = mm::take_snapshot(sim_);
-        const auto m = mm::average(s, mm::Region<dim>::inner(s, 0.1));
+        const auto m = mm::average(s, mm::Region<dim>::inner(s, 0.1));  // the paper's averaging box
         const auto wall = mm::wall_stress(s);
         const auto e = sim_.energy();
         const auto& walls = sim_.walls();
@@ -272,8 +272,21 @@ public:
         for (int a = 0; a < dim; ++a)
             for (int b = a; b < dim; ++b) r.add("F_" + idx({a, b}), m.fabric(a, b));
         r.add("trF", m.contact_number_density);
+        // g2 measured (tr F / (nu C)) and g2 of the size distribution, <a^2> / <a>^2 of the
+        // particles inside (the paper's 1.088 for radii uniform in [0.5, 1.5] mm); the paper's
+        // corrected contact number density is tr F over the latter, to compare with nu C.
+        double a1 = 0.0, a2 = 0.0, count = 0.0;
+        const auto region = mm::Region<dim>::inner(s, 0.1);
+        for (std::size_t p = 0; p < s.size(); ++p)
+            if (region.contains(s.position[p])) {
+                a1 += s.radius[p];
+                a2 += s.radius[p] * s.radius[p];
+                count += 1.0;
+            }
+        const double g2_size = count > 0 ? a2 * count / (a1 * a1) : 0.0;
         r.add("g2", m.g2);
-        r.add("trF_over_g2", m.g2 > 0 ? m.contact_number_density / m.g2 : 0.0);
+        r.add("g2_size", g2_size);
+        r.add("trF_over_g2", g2_size > 0 ? m.contact_number_density / g2_size : 0.0);
         r.add("deviatoric_fabric", m.fabric_deviator);
         if constexpr (dim == 2) r.add("phi_F", m.fabric_angle);
         r.add("coordination", m.coordination);

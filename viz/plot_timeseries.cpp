@@ -1,0 +1,192 @@
+// plot_timeseries: the plots of the paper's Fig. 4 and 5 (and stress-strain curves) from a
+// biaxial timeseries.csv, as PNG files, off-screen with VTK's charts.
+//
+//   xvfb-run -a -s "-screen 0 1280x1024x24" plot_timeseries runs/quick/timeseries.csv --out runs/quick/plots
+//
+// Writes fabric.png (tr F, tr F / g2, nu C against eps_zz: Fig. 4 left), fabric_deviator.png
+// (deviatoric fabric and phi_F: Fig. 4 right), stiffness_normal.png (C^n entries / k: Fig. 5
+// left), stiffness_tangential.png (C^t entries / k_t: Fig. 5 right), stress.png (inner-box and
+// wall stresses) and volumetric.png. Each PNG gets a .json sidecar with the plot area in pixels
+// and the axis ranges, so a point of a curve can be found in the image. Needs an X server (VTK
+// from Debian renders only through X): run under xvfb-run on a machine without a display.
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <regex>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <vtkAxis.h>
+#include <vtkChartLegend.h>
+#include <vtkChartXY.h>
+#include <vtkContextScene.h>
+#include <vtkContextView.h>
+#include <vtkDoubleArray.h>
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkPen.h>
+#include <vtkPlot.h>
+#include <vtkRenderWindow.h>
+#include <vtkRenderer.h>
+#include <vtkTable.h>
+#include <vtkTextProperty.h>
+#include <vtkWindowToImageFilter.h>
+
+#include "../examples/biaxial/timeseries.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+[[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what); }
+
+struct Series {
+    std::string label;
+    std::vector<double> y;
+};
+
+/// One chart: x against every series, written to `path` (PNG) and `path`.json.
+void plot(const fs::path& path, const std::string& title, const std::string& xlabel, const std::string& ylabel,
+          const std::vector<double>& x, const std::vector<Series>& series, int width, int height) {
+    vtkNew<vtkTable> table;
+    vtkNew<vtkDoubleArray> xs;
+    xs->SetName(xlabel.c_str());
+    for (double v : x) xs->InsertNextValue(v);
+    table->AddColumn(xs);
+    double ymin = 1e300, ymax = -1e300;
+    for (const auto& s : series) {
+        vtkNew<vtkDoubleArray> ys;
+        ys->SetName(s.label.c_str());
+        for (double v : s.y) {
+            ys->InsertNextValue(v);
+            ymin = std::min(ymin, v);
+            ymax = std::max(ymax, v);
+        }
+        table->AddColumn(ys);
+    }
+    if (ymax <= ymin) ymax = ymin + 1.0;
+    const double pad = 0.05 * (ymax - ymin);
+    const double xmin = *std::min_element(x.begin(), x.end()), xmax = std::max(*std::max_element(x.begin(), x.end()), xmin + 1e-12);
+
+    vtkNew<vtkContextView> view;
+    view->GetRenderWindow()->SetOffScreenRendering(1);
+    view->GetRenderWindow()->SetSize(width, height);
+    view->GetRenderer()->SetBackground(1.0, 1.0, 1.0);
+    vtkNew<vtkChartXY> chart;
+    view->GetScene()->AddItem(chart);
+    chart->SetTitle(title);
+    chart->SetShowLegend(true);
+    chart->GetLegend()->SetInline(false);  // beside the plot area, never over a curve
+    chart->GetLegend()->SetHorizontalAlignment(vtkChartLegend::RIGHT);
+    chart->GetLegend()->SetVerticalAlignment(vtkChartLegend::TOP);
+    chart->GetAxis(vtkAxis::BOTTOM)->SetTitle(xlabel);
+    chart->GetAxis(vtkAxis::LEFT)->SetTitle(ylabel);
+    chart->GetAxis(vtkAxis::BOTTOM)->SetBehavior(vtkAxis::FIXED);
+    chart->GetAxis(vtkAxis::BOTTOM)->SetRange(xmin, xmax);
+    chart->GetAxis(vtkAxis::LEFT)->SetBehavior(vtkAxis::FIXED);
+    chart->GetAxis(vtkAxis::LEFT)->SetRange(ymin - pad, ymax + pad);
+    static const unsigned char colours[][3] = {{228, 26, 28}, {55, 126, 184}, {77, 175, 74}, {152, 78, 163},
+                                               {255, 127, 0}, {166, 86, 40}, {247, 129, 191}, {80, 80, 80}, {0, 0, 0}};
+    for (std::size_t s = 0; s < series.size(); ++s) {
+        vtkPlot* line = chart->AddPlot(vtkChart::LINE);
+        line->SetInputData(table, 0, static_cast<vtkIdType>(s + 1));
+        const auto* c = colours[s % 9];
+        line->SetColor(c[0], c[1], c[2], 255);
+        line->SetWidth(2.0);
+    }
+    view->GetRenderWindow()->Render();
+    vtkNew<vtkWindowToImageFilter> grab;
+    grab->SetInput(view->GetRenderWindow());
+    grab->ReadFrontBufferOff();
+    grab->Update();
+    const fs::path partial = path.string() + ".partial.png";
+    vtkNew<vtkPNGWriter> png;
+    png->SetFileName(partial.string().c_str());
+    png->SetInputConnection(grab->GetOutputPort());
+    png->Write();
+    if (!fs::is_regular_file(partial)) fail("cannot write " + path.string());
+    fs::rename(partial, path);
+    // The plot area (pixels from the bottom-left) and the axis ranges.
+    const auto p1 = chart->GetPoint1(), p2 = chart->GetPoint2();
+    std::ofstream side(path.string() + ".json");
+    side.precision(17);
+    side << "{\"width\": " << width << ", \"height\": " << height << ", \"plot_area\": [" << p1[0] << ", " << p1[1] << ", "
+         << p2[0] << ", " << p2[1] << "], \"x_range\": [" << xmin << ", " << xmax << "], \"y_range\": [" << ymin - pad
+         << ", " << ymax + pad << "]}\n";
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    std::string input, out = "plots", size = "900x600";
+    double k = 1e5, kt_ratio = 0.2;
+    CLI::App app{"Plots like the paper's Fig. 4 and 5 from a biaxial timeseries.csv (PNG, off-screen). Needs an X "
+                 "server: run under xvfb-run -a -s \"-screen 0 1280x1024x24\" on a machine without a display."};
+    app.add_option("timeseries", input, "timeseries.csv of a biaxial run")->required();
+    app.add_option("--out", out, "directory for the PNG files (created)")->capture_default_str();
+    app.add_option("--size", size, "image size WIDTHxHEIGHT")->capture_default_str();
+    app.add_option("--k", k, "normal stiffness k (N/m) to scale C^n")->capture_default_str();
+    app.add_option("--kt-ratio", kt_ratio, "k_t / k to scale C^t")->capture_default_str();
+    CLI11_PARSE(app, argc, argv);
+    try {
+        const char* display = std::getenv("DISPLAY");
+        if (!display || !*display)
+            fail("no X display (DISPLAY is unset); VTK from Debian renders only through X: run under "
+                 "xvfb-run -a -s \"-screen 0 1280x1024x24\" plot_timeseries ...");
+        std::smatch m;
+        if (!std::regex_match(size, m, std::regex("([0-9]+)x([0-9]+)"))) fail("--size '" + size + "' is not WIDTHxHEIGHT");
+        const int width = std::stoi(m[1]), height = std::stoi(m[2]);
+        if (!fs::is_regular_file(input)) fail("cannot read " + input + ": no such file");
+        const auto col = biaxial::read_timeseries(input);
+        if (col.empty() || !col.count("time")) fail(input + " is not a biaxial time series (no time column)");
+        const bool three = col.count("strain_33") > 0;
+        const std::string z = three ? "3" : "2";
+        const std::string zz = z + z;
+        auto get = [&](const std::string& name) {
+            const auto it = col.find(name);
+            if (it == col.end()) fail(input + " has no column " + name);
+            return it->second;
+        };
+        auto scaled = [](std::vector<double> v, double f) {
+            for (auto& x : v) x *= f;
+            return v;
+        };
+        std::error_code ec;
+        fs::create_directories(out, ec);
+        if (!fs::is_directory(out)) fail("cannot create the directory " + out);
+        const auto eps = get("strain_" + zz);
+        const std::string x = "eps_zz (1)";
+        std::vector<double> nuC = get("volume_fraction");
+        const auto C = get("coordination");
+        for (std::size_t i = 0; i < nuC.size(); ++i) nuC[i] *= C[i];
+        plot(fs::path(out) / "fabric.png", "Fabric (Fig. 4)", x, "contact number density (1)", eps,
+             {{"tr F", get("trF")}, {"tr F / g2", get("trF_over_g2")}, {"nu C", nuC}}, width, height);
+        std::vector<Series> dev{{"deviatoric fabric", get("deviatoric_fabric")}};
+        if (!three) dev.push_back({"phi_F (rad)", get("phi_F")});
+        plot(fs::path(out) / "fabric_deviator.png", "Fabric anisotropy (Fig. 4)", x, "deviator (1), angle (rad)", eps, dev,
+             width, height);
+        const std::vector<std::string> normal = three ? std::vector<std::string>{"1111", "2222", "3333", "1133", "1313"}
+                                                      : std::vector<std::string>{"1111", "2222", "1122", "1212", "1112", "1222"};
+        std::vector<Series> cn, ct;
+        for (const auto& e : normal) cn.push_back({"C_n_" + e, scaled(get("C_n_" + e), 1.0 / k)});
+        const std::vector<std::string> tang = three ? std::vector<std::string>{"1111", "3333", "1313", "3131", "1133"}
+                                                    : std::vector<std::string>{"1111", "2222", "1122", "1212", "2121", "1112", "1222", "1121", "2122"};
+        for (const auto& e : tang) ct.push_back({"C_t_" + e, scaled(get("C_t_" + e), 1.0 / (kt_ratio * k))});
+        plot(fs::path(out) / "stiffness_normal.png", "Normal stiffness (Fig. 5 left)", x, "C^n / k (1)", eps, cn, width, height);
+        plot(fs::path(out) / "stiffness_tangential.png", "Tangential stiffness (Fig. 5 right)", x, "C^t / k_t (1)", eps, ct,
+             width, height);
+        const std::string unit = three ? "Pa" : "N/m";
+        plot(fs::path(out) / "stress.png", "Stress", x, "stress (" + unit + ")", eps,
+             {{"sigma_11 (inner)", get("sigma_11")}, {"sigma_" + zz + " (inner)", get("sigma_" + zz)},
+              {"sigma_11 (walls)", get("sigma_wall_11")}, {"sigma_" + zz + " (walls)", get("sigma_wall_" + zz)}},
+             width, height);
+        plot(fs::path(out) / "volumetric.png", "Volumetric strain", x, "volumetric strain (1, compaction > 0)", eps,
+             {{"volumetric strain", get("volumetric_strain")}}, width, height);
+        std::printf("plot_timeseries: 6 plots in %s\n", out.c_str());
+        return 0;
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "plot_timeseries: %s\n", e.what());
+        return 1;
+    }
+}
