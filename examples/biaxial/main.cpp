@@ -122,6 +122,52 @@ Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     return c;
 }
 
+/// A program of the project next to this one: installed in the same directory, or in the build
+/// tree's viz/ beside examples/. Empty if not found.
+fs::path sibling_program(const std::string& name) {
+    std::error_code ec;
+    const fs::path self = fs::canonical("/proc/self/exe", ec).parent_path();
+    for (const fs::path& candidate : {self / name, self.parent_path() / "viz" / name})
+        if (fs::is_regular_file(candidate, ec)) return candidate;
+    return {};
+}
+
+/// Snapshots (like Fig. 3) of a few VTK frames and the plots of Fig. 4-5, when an X display (real
+/// or Xvfb) is available; otherwise the commands that make them later.
+void make_pictures(const fs::path& out, std::size_t frames, int dim) {
+    const fs::path render = sibling_program("render_snapshot"), plot = sibling_program("plot_timeseries");
+    const std::string xvfb = "xvfb-run -a -s \"-screen 0 1280x1024x24\" ";
+    std::vector<std::string> commands;
+    if (!plot.empty())
+        commands.push_back(plot.string() + " " + (out / "timeseries.csv").string() + " --out " + (out / "plots").string());
+    if (!render.empty() && frames > 0) {
+        std::vector<std::size_t> picked;
+        for (std::size_t q = 0; q < 5; ++q) {
+            const std::size_t f = q * (frames - 1) / 4;
+            if (picked.empty() || picked.back() != f) picked.push_back(f);
+        }
+        fs::create_directories(out / "snapshots");
+        for (const std::size_t f : picked) {
+            const std::string k = std::to_string(f);
+            commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --walls " +
+                               (out / "vtk" / ("walls_" + k + ".vtp")).string() + " --contacts " +
+                               (out / "vtk" / ("contacts_" + k + ".vtp")).string() + (dim == 3 ? " --3d" : "") + " -o " +
+                               (out / "snapshots" / ("snapshot_" + k + ".png")).string());
+        }
+    }
+    if (commands.empty()) return;
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display) {
+        std::printf("no display: make the snapshots and plots later with\n");
+        for (const auto& c : commands) std::printf("  %s%s\n", xvfb.c_str(), c.c_str());
+        return;
+    }
+    int failed = 0;
+    for (const auto& c : commands) failed += std::system((c + " > /dev/null").c_str()) != 0;
+    std::printf("pictures: %s/plots, %s/snapshots%s\n", out.string().c_str(), out.string().c_str(),
+                failed ? " (some failed; run the commands by hand to see why)" : "");
+}
+
 /// What a run needs besides its configuration: where to start from and how often to save.
 struct Plan {
     fs::path out;
@@ -130,6 +176,7 @@ struct Plan {
     double checkpoint_every = 0;   // simulated seconds between checkpoints (0: none)
     std::size_t stop_after_rows = 0;  // testing: die abruptly after this many rows, like a kill
     std::size_t vtk_every_rows = 20;  // a VTK frame every this many rows (0: none)
+    bool pictures = true;             // snapshots and plots at the end (if a display is there)
     bool quiet = false;
 };
 
@@ -299,6 +346,7 @@ int run(const Config& c, const Plan& plan) {
                    {"particle_steps_per_second", pps}};
     write_atomically(out / "run.json", j.dump(2) + "\n");
     if (terminal) std::printf("\n");
+    if (plan.pictures) make_pictures(out, vtk_times.size(), dim);
     std::printf("biaxial %dD: %zu particles, %zu steps in %.1f s (%.3g particle-steps/s); results in %s\n", dim,
                 c.particles, sim.steps_done() - steps_before, seconds, pps, out.string().c_str());
     return 0;
@@ -345,6 +393,8 @@ int main(int argc, char** argv) {
     auto* mw = app.add_option("--wall-mass", "m_w of Eq. 18 in kg (default 1e-4)");
     auto* gw = app.add_option("--wall-damping", "gamma_w of Eq. 18 in kg/s while loading (default 0.63)");
     auto* interval = app.add_option("--output-interval", "time between rows of timeseries.csv in s");
+    bool no_pictures = false;
+    app.add_flag("--no-pictures", no_pictures, "skip the snapshots and plots at the end");
     app.add_flag("--wall-friction", c.wall_friction, "walls use the particles' friction (default: smooth walls)");
     app.add_flag("--quiet", quiet, "no progress line, only the final summary");
     CLI11_PARSE(app, argc, argv);
@@ -352,6 +402,7 @@ int main(int argc, char** argv) {
     try {
         if (out.empty() && resume.empty()) micromacro::detail::throw_input_error("give --out DIR (or --resume DIR)");
         plan.quiet = quiet;
+        plan.pictures = !no_pictures;
         if (!resume.empty()) {  // everything comes from the checkpoint
             plan.out = resume;
             plan.resume = true;
