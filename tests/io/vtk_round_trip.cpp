@@ -7,6 +7,7 @@
 #include <filesystem>
 
 #include <micromacro/io/vtk.hpp>
+#include <vtkCell.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include "support/programs.hpp"
@@ -60,22 +61,33 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(particles_contacts_walls_round_trip, D, Dims) {
     const auto particles = read(dir / "particles_0.vtp");
     BOOST_TEST_REQUIRE(particles->GetNumberOfPoints() == static_cast<vtkIdType>(frame.position.size()));
     auto* pd = particles->GetPointData();
+    // Every component of every array, exactly.
+    auto same = [](vtkDataArray* a, vtkIdType i, std::initializer_list<double> want) {
+        if (!a || a->GetNumberOfComponents() != static_cast<int>(want.size())) return false;
+        int k = 0;
+        for (double w : want)
+            if (a->GetComponent(i, k++) != w) return false;
+        return true;
+    };
+    auto xyz = [](const mm::Vec<dim>& v) { return std::array<double, 3>{v[0], v[1], dim == 3 ? v[dim - 1] : 0.0}; };
     bool exact = true;
     for (vtkIdType i = 0; i < particles->GetNumberOfPoints(); ++i) {
+        const auto n = static_cast<std::size_t>(i);
         double x[3];
         particles->GetPoint(i, x);
-        const auto& r = frame.position[static_cast<std::size_t>(i)];
-        exact &= x[0] == r[0] && x[1] == r[1] && x[2] == (dim == 3 ? r[2] : 0.0);
-        exact &= pd->GetArray("radius")->GetTuple1(i) == frame.radius[static_cast<std::size_t>(i)];
-        exact &= pd->GetArray("potential_energy")->GetTuple1(i) == frame.potential_energy[static_cast<std::size_t>(i)];
-        exact &= pd->GetArray("kinetic_energy")->GetTuple1(i) == frame.kinetic_energy[static_cast<std::size_t>(i)];
-        exact &= pd->GetArray("coordination")->GetTuple1(i) == frame.coordination[static_cast<std::size_t>(i)];
-        const double* v = pd->GetArray("velocity")->GetTuple3(i);
-        exact &= v[0] == frame.velocity[static_cast<std::size_t>(i)][0] && v[1] == frame.velocity[static_cast<std::size_t>(i)][1];
-        const double* w = pd->GetArray("angular_velocity")->GetTuple3(i);
-        exact &= w[2] == frame.angular_velocity[static_cast<std::size_t>(i)][2];
-        const double* s = pd->GetArray("stress")->GetTuple9(i);
-        exact &= s[1] == frame.stress[static_cast<std::size_t>(i)](0, 1);
+        const auto p = xyz(frame.position[n]), v = xyz(frame.velocity[n]), f = xyz(frame.force[n]);
+        const auto& w = frame.angular_velocity[n];
+        exact &= x[0] == p[0] && x[1] == p[1] && x[2] == p[2];
+        exact &= same(pd->GetArray("radius"), i, {frame.radius[n]});
+        exact &= same(pd->GetArray("potential_energy"), i, {frame.potential_energy[n]});
+        exact &= same(pd->GetArray("kinetic_energy"), i, {frame.kinetic_energy[n]});
+        exact &= same(pd->GetArray("coordination"), i, {double(frame.coordination[n])});
+        exact &= same(pd->GetArray("velocity"), i, {v[0], v[1], v[2]});
+        exact &= same(pd->GetArray("force"), i, {f[0], f[1], f[2]});
+        exact &= same(pd->GetArray("angular_velocity"), i, {w[0], w[1], w[2]});
+        const auto& t = frame.stress[n];
+        auto T = [&](int a, int b) { return a < dim && b < dim ? t(a, b) : 0.0; };
+        exact &= same(pd->GetArray("stress"), i, {T(0, 0), T(0, 1), T(0, 2), T(1, 0), T(1, 1), T(1, 2), T(2, 0), T(2, 1), T(2, 2)});
     }
     BOOST_TEST(exact);
     // Potential energies add up to the elastic energy (each spring split between partners).
@@ -88,16 +100,28 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(particles_contacts_walls_round_trip, D, Dims) {
     const auto contacts = read(dir / "contacts_0.vtp");
     BOOST_TEST_REQUIRE(contacts->GetNumberOfCells() == static_cast<vtkIdType>(snapshot.contacts.size()));
     bool contacts_exact = true;
+    auto* cd = contacts->GetCellData();
     for (vtkIdType q = 0; q < contacts->GetNumberOfCells(); ++q) {
         const auto& c = snapshot.contacts[static_cast<std::size_t>(q)];
-        contacts_exact &= contacts->GetCellData()->GetArray("normal_force")->GetTuple1(q) == c.normal_force;
-        contacts_exact &= contacts->GetCellData()->GetArray("overlap")->GetTuple1(q) == c.overlap;
-        contacts_exact &= contacts->GetCellData()->GetArray("tangential_force")->GetTuple3(q)[0] == c.tangential_force[0];
+        const auto t = xyz(c.tangential_force);
+        contacts_exact &= same(cd->GetArray("normal_force"), q, {c.normal_force});
+        contacts_exact &= same(cd->GetArray("overlap"), q, {c.overlap});
+        contacts_exact &= same(cd->GetArray("sliding"), q, {c.sliding ? 1.0 : 0.0});
+        contacts_exact &= same(cd->GetArray("tangential_force"), q, {t[0], t[1], t[2]});
+        // The line joins i's centre to the partner as the branch sees it.
+        double a[3], b[3];
+        contacts->GetPoint(contacts->GetCell(q)->GetPointId(0), a);
+        contacts->GetPoint(contacts->GetCell(q)->GetPointId(1), b);
+        const auto end = xyz(mm::Vec<dim>(snapshot.position[c.i] - c.branch));
+        contacts_exact &= a[0] == xyz(snapshot.position[c.i])[0] && b[0] == end[0] && b[1] == end[1] && b[2] == end[2];
     }
     BOOST_TEST(contacts_exact);
     const auto walls = read(dir / "walls_0.vtp");
     BOOST_TEST(walls->GetNumberOfCells() == 2 * dim);
-    BOOST_TEST(walls->GetCellData()->GetArray("force")->GetTuple3(0)[0] == snapshot.walls[0].force[0]);
+    for (vtkIdType w = 0; w < walls->GetNumberOfCells(); ++w) {
+        const auto f = xyz(snapshot.walls[static_cast<std::size_t>(w)].force);
+        BOOST_TEST(same(walls->GetCellData()->GetArray("force"), w, {f[0], f[1], f[2]}));
+    }
     const std::string collection = slurp(dir / "particles.pvd");
     BOOST_TEST(collection.find("file=\"particles_0.vtp\"") != std::string::npos);
 }
