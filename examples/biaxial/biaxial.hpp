@@ -316,7 +316,9 @@ private:
     }
 
     mm::WallMotion prepare_motion(double L) const {
-        const double area = std::pow(L, dim - 1);  // grows smaller as the box shrinks: the force does too
+        // Damping for a terminal speed of prepare_speed at the initial area; as the box shrinks the
+        // push p A and with it the wall's speed drop.
+        const double area = std::pow(L, dim - 1);
         return mm::StressControlled{c_.pressure, c_.wall_mass, c_.pressure * area / c_.prepare_speed};
     }
 
