@@ -231,7 +231,8 @@ public:
     Row row() const {
         Row r;
         const auto s = mm::take_snapshot(sim_);
-        const auto m = mm::average(s, mm::Region<dim>::inner(s, 0.1));  // the paper's averaging box
+        const auto region = mm::Region<dim>::inner(s, 0.1);  // the paper's averaging box
+        const auto m = mm::average(s, region);
         const auto wall = mm::wall_stress(s);
         const auto e = sim_.energy();
         const auto& walls = sim_.walls();
@@ -276,7 +277,6 @@ public:
         // particles inside (the paper's 1.088 for radii uniform in [0.5, 1.5] mm); the paper's
         // corrected contact number density is tr F over the latter, to compare with nu C.
         double a1 = 0.0, a2 = 0.0, count = 0.0;
-        const auto region = mm::Region<dim>::inner(s, 0.1);
         for (std::size_t p = 0; p < s.size(); ++p)
             if (region.contains(s.position[p])) {
                 a1 += s.radius[p];
