@@ -36,11 +36,12 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "../examples/biaxial/timeseries.hpp"
+#include "offscreen.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-[[noreturn]] void fail(const std::string& what) { throw std::runtime_error(what); }
+using viz::fail;
 
 struct Series {
     std::string label;
@@ -96,18 +97,7 @@ void plot(const fs::path& path, const std::string& title, const std::string& xla
         line->SetColor(c[0], c[1], c[2], 255);
         line->SetWidth(2.0);
     }
-    view->GetRenderWindow()->Render();
-    vtkNew<vtkWindowToImageFilter> grab;
-    grab->SetInput(view->GetRenderWindow());
-    grab->ReadFrontBufferOff();
-    grab->Update();
-    const fs::path partial = path.string() + ".partial.png";
-    vtkNew<vtkPNGWriter> png;
-    png->SetFileName(partial.string().c_str());
-    png->SetInputConnection(grab->GetOutputPort());
-    png->Write();
-    if (!fs::is_regular_file(partial)) fail("cannot write " + path.string());
-    fs::rename(partial, path);
+    viz::write_png(view->GetRenderWindow(), path);
     // The plot area (pixels from the bottom-left) and the axis ranges.
     const auto p1 = chart->GetPoint1(), p2 = chart->GetPoint2();
     std::ofstream side(path.string() + ".json");
@@ -130,13 +120,8 @@ int main(int argc, char** argv) {
     app.add_option("--kt-ratio", kt_ratio, "k_t / k to scale C^t")->capture_default_str();
     CLI11_PARSE(app, argc, argv);
     try {
-        const char* display = std::getenv("DISPLAY");
-        if (!display || !*display)
-            fail("no X display (DISPLAY is unset); VTK from Debian renders only through X: run under "
-                 "xvfb-run -a -s \"-screen 0 1280x1024x24\" plot_timeseries ...");
-        std::smatch m;
-        if (!std::regex_match(size, m, std::regex("([0-9]+)x([0-9]+)"))) fail("--size '" + size + "' is not WIDTHxHEIGHT");
-        const int width = std::stoi(m[1]), height = std::stoi(m[2]);
+        viz::require_display("plot_timeseries");
+        const auto [width, height] = viz::parse_size(size);
         if (!fs::is_regular_file(input)) fail("cannot read " + input + ": no such file");
         const auto col = biaxial::read_timeseries(input);
         if (col.empty() || !col.count("time")) fail(input + " is not a biaxial time series (no time column)");

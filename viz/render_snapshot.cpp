@@ -36,14 +36,13 @@
 #include <vtkWindowToImageFilter.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include "offscreen.hpp"
 #include "snapshot_view.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
-[[noreturn]] void fail(const std::string& what) {
-    throw std::runtime_error(what);
-}
+using viz::fail;
 
 /// The file of step `step` (negative: from the end) of a .pvd collection, or the file itself.
 fs::path resolve(const fs::path& input, int step) {
@@ -82,20 +81,14 @@ int main(int argc, char** argv) {
     app.add_option("input", input, "particles .vtp, or a .pvd collection (see --step)")->required();
     app.add_option("--step", step, "which step of a .pvd (negative counts from the end)")->capture_default_str();
     app.add_option("--walls", walls, "walls .vtp to draw");
-    app.add_option("--contacts", contacts, "contacts .vtp: overlay the force network (line width ~ normal force)");
+    app.add_option("--contacts", contacts, "contacts .vtp: overlay the force network (a line per contact)");
     app.add_option("-o,--output", output, "PNG file to write")->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT in pixels")->capture_default_str();
     app.add_flag("--3d", three_d, "draw spheres with lighting (default: flat disks in the plane z = 0)");
     CLI11_PARSE(app, argc, argv);
     try {
-        const char* display = std::getenv("DISPLAY");
-        if (!display || !*display)
-            fail("no X display (DISPLAY is unset); VTK from Debian renders only through X: run under "
-                 "xvfb-run -a -s \"-screen 0 1280x1024x24\" render_snapshot ...");
-        std::smatch m;
-        if (!std::regex_match(size, m, std::regex("([0-9]+)x([0-9]+)"))) fail("--size '" + size + "' is not WIDTHxHEIGHT");
-        const int width = std::stoi(m[1]), height = std::stoi(m[2]);
-        if (width < 16 || height < 16 || width > 8192 || height > 8192) fail("--size " + size + " is outside 16..8192 pixels");
+        viz::require_display("render_snapshot");
+        const auto [width, height] = viz::parse_size(size);
         const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
         if (!fs::is_directory(out_dir)) fail("cannot write " + output + ": the directory " + out_dir.string() + " does not exist");
 
@@ -202,18 +195,7 @@ int main(int argc, char** argv) {
         window->SetOffScreenRendering(1);
         window->SetSize(width, height);
         window->AddRenderer(renderer);
-        window->Render();
-        vtkNew<vtkWindowToImageFilter> grab;
-        grab->SetInput(window);
-        grab->ReadFrontBufferOff();
-        grab->Update();
-        const std::string partial = output + ".partial.png";
-        vtkNew<vtkPNGWriter> png;
-        png->SetFileName(partial.c_str());
-        png->SetInputConnection(grab->GetOutputPort());
-        png->Write();
-        if (!fs::is_regular_file(partial)) fail("cannot write " + output);
-        fs::rename(partial, output);
+        viz::write_png(window, output);
         std::printf("render_snapshot: %s (%dx%d, %lld particles, energy %g..%g J)\n", output.c_str(), width, height,
                     static_cast<long long>(particles->GetNumberOfPoints()), range[0], range[1]);
         return 0;

@@ -1,0 +1,55 @@
+#pragma once
+// What both viz programs need around VTK's off-screen rendering: a display check with the
+// xvfb-run recipe (VTK from Debian aborts without X), the --size option, and writing the window
+// to a PNG atomically.
+#include <cstdlib>
+#include <filesystem>
+#include <regex>
+#include <stdexcept>
+#include <string>
+#include <utility>
+
+#include <vtkNew.h>
+#include <vtkPNGWriter.h>
+#include <vtkRenderWindow.h>
+#include <vtkWindowToImageFilter.h>
+
+namespace viz {
+
+[[noreturn]] inline void fail(const std::string& what) { throw std::runtime_error(what); }
+
+inline void require_display(const std::string& program) {
+    const char* display = std::getenv("DISPLAY");
+    if (!display || !*display)
+        fail("no X display (DISPLAY is unset); VTK from Debian renders only through X: run under "
+             "xvfb-run -a -s \"-screen 0 1280x1024x24\" " + program + " ...");
+}
+
+/// WIDTHxHEIGHT, each 16..8192 pixels.
+inline std::pair<int, int> parse_size(const std::string& size) {
+    std::smatch m;
+    if (!std::regex_match(size, m, std::regex("([0-9]{1,5})x([0-9]{1,5})"))) fail("--size '" + size + "' is not WIDTHxHEIGHT");
+    const int width = std::stoi(m[1]), height = std::stoi(m[2]);
+    if (width < 16 || height < 16 || width > 8192 || height > 8192) fail("--size " + size + " is outside 16..8192 pixels");
+    return {width, height};
+}
+
+/// Renders the window and writes it to `path` (a temporary name, then a rename).
+inline void write_png(vtkRenderWindow* window, const std::filesystem::path& path) {
+    const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
+    if (!std::filesystem::is_directory(dir)) fail("cannot write " + path.string() + ": the directory " + dir.string() + " does not exist");
+    window->Render();
+    vtkNew<vtkWindowToImageFilter> grab;
+    grab->SetInput(window);
+    grab->ReadFrontBufferOff();
+    grab->Update();
+    const std::filesystem::path partial = path.string() + ".partial.png";
+    vtkNew<vtkPNGWriter> png;
+    png->SetFileName(partial.string().c_str());
+    png->SetInputConnection(grab->GetOutputPort());
+    png->Write();
+    if (!std::filesystem::is_regular_file(partial)) fail("cannot write " + path.string());
+    std::filesystem::rename(partial, path);
+}
+
+}  // namespace viz
