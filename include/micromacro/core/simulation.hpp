@@ -412,6 +412,19 @@ public:
         ar.value(track_energy_);
     }
 
+    /// Bytes the simulation holds in its arrays (particles, contacts with history, neighbour-list
+    /// references, previous forces), capacities counted: the engine's own memory footprint.
+    std::size_t storage_bytes() const {
+        std::size_t b = particles_.size() * particles_.bytes_per_particle() + pairs_.bytes() +
+                        reference_.capacity() * sizeof(V);
+        if constexpr (has_walls) b += wall_contacts_.bytes();
+        if constexpr (Integrator::keeps_previous_forces) {
+            b += previous_force_.capacity() * sizeof(V);
+            if constexpr (rotation) b += previous_torque_.capacity() * sizeof(A);
+        }
+        return b;
+    }
+
     std::size_t contact_count() const {
         std::size_t count = 0;
         for_each_contact([&](const ContactView<dim>&) { ++count; });
