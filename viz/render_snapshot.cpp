@@ -61,14 +61,29 @@ fs::path resolve(const fs::path& input, int step) {
     return input.parent_path() / files[static_cast<std::size_t>(index)];
 }
 
-vtkSmartPointer<vtkPolyData> read(const fs::path& p) {
+/// A .vtp file; `need_points`: refuse one without points (a particles file must have some).
+vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
     if (!fs::is_regular_file(p)) fail("cannot read " + p.string() + ": no such file");
     vtkNew<vtkXMLPolyDataReader> reader;
     reader->SetFileName(p.string().c_str());
     reader->Update();
     vtkSmartPointer<vtkPolyData> data = reader->GetOutput();
-    if (!data || data->GetNumberOfPoints() == 0) fail(p.string() + " holds no points (not a particles .vtp?)");
+    if (!data || (need_points && data->GetNumberOfPoints() == 0)) fail(p.string() + " holds no points (not a particles .vtp?)");
     return data;
+}
+
+/// Draws `data` (walls, contact lines) in one flat colour and returns its actor.
+vtkSmartPointer<vtkActor> overlay(vtkRenderer* renderer, vtkPolyData* data, double grey, double line_width) {
+    vtkNew<vtkPolyDataMapper> mapper;
+    mapper->SetInputData(data);
+    mapper->ScalarVisibilityOff();
+    auto actor = vtkSmartPointer<vtkActor>::New();
+    actor->SetMapper(mapper);
+    actor->GetProperty()->SetColor(grey, grey, grey);
+    actor->GetProperty()->SetLineWidth(line_width);
+    actor->GetProperty()->LightingOff();
+    renderer->AddActor(actor);
+    return actor;
 }
 }  // namespace
 
@@ -136,39 +151,16 @@ int main(int argc, char** argv) {
         double rmax = radius->GetRange()[1];
         double xlo = bounds[0] - rmax, xhi = bounds[1] + rmax, ylo = bounds[2] - rmax, yhi = bounds[3] + rmax;
         if (!walls.empty()) {
-            vtkNew<vtkXMLPolyDataReader> reader;
-            if (!fs::is_regular_file(walls)) fail("cannot read " + walls + ": no such file");
-            reader->SetFileName(walls.c_str());
-            reader->Update();
+            const auto wall_data = read(walls, false);
             double wb[6];
-            reader->GetOutput()->GetBounds(wb);
+            wall_data->GetBounds(wb);
             xlo = wb[0], xhi = wb[1], ylo = wb[2], yhi = wb[3];
-            vtkNew<vtkPolyDataMapper> wm;
-            wm->SetInputConnection(reader->GetOutputPort());
-            wm->ScalarVisibilityOff();
-            vtkNew<vtkActor> wa;
-            wa->SetMapper(wm);
-            wa->GetProperty()->SetColor(0.3, 0.3, 0.3);
-            wa->GetProperty()->SetLineWidth(3.0);
-            wa->GetProperty()->LightingOff();
-            if (three_d) wa->GetProperty()->SetOpacity(0.15);
-            renderer->AddActor(wa);
+            const auto actor = overlay(renderer, wall_data, 0.3, 3.0);
+            if (three_d) actor->GetProperty()->SetOpacity(0.15);
         }
         if (!contacts.empty()) {
-            vtkNew<vtkXMLPolyDataReader> reader;
-            if (!fs::is_regular_file(contacts)) fail("cannot read " + contacts + ": no such file");
-            reader->SetFileName(contacts.c_str());
-            reader->Update();
-            vtkNew<vtkPolyDataMapper> cm;
-            cm->SetInputConnection(reader->GetOutputPort());
-            cm->ScalarVisibilityOff();
-            vtkNew<vtkActor> ca;
-            ca->SetMapper(cm);
-            ca->GetProperty()->SetColor(1.0, 1.0, 1.0);
-            ca->GetProperty()->SetLineWidth(1.5);
-            ca->GetProperty()->LightingOff();
-            ca->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
-            renderer->AddActor(ca);
+            const auto actor = overlay(renderer, read(contacts, false), 1.0, 1.5);
+            actor->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
         }
 
         vtkNew<vtkScalarBarActor> bar;
