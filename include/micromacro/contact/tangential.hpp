@@ -83,7 +83,8 @@ public:
         const V vt = relative_velocity - n * n.dot(relative_velocity);           // Eq. 24
         const V trial = -kt_ * spring - gamma_t_ * vt;                           // Eq. 26
         const double fn = std::max(normal_force, 0.0);
-        const double trial_magnitude = trial.norm();
+        // Compared squared: the square root is needed only by a sliding contact.
+        const double trial_sq = trial.squaredNorm(), static_limit = mu_s_ * fn, dynamic_limit = mu_d_ * fn;
         // Static until the trial force exceeds mu_s f_n; once sliding, static again when it drops
         // below mu_d f_n (the paper's hysteresis between static and dynamic friction) or when the
         // motion reverses and unloads the spring. With gamma_t > 0 a reversal already lowers the
@@ -91,14 +92,14 @@ public:
         // exactly at mu_d f_n, and without the reversal test the reset of Eq. 28 would keep the
         // force pointing against the old motion for ever.
         // Whatever the state, a trial force above mu_s f_n slides.
-        const bool sliding = trial_magnitude > mu_s_ * fn ||
-                             (h.sliding && trial_magnitude >= mu_d_ * fn && vt.dot(spring) >= 0.0);
+        const bool sliding = trial_sq > static_limit * static_limit ||
+                             (h.sliding && trial_sq >= dynamic_limit * dynamic_limit && vt.dot(spring) >= 0.0);
         if (!sliding) {
             out.force = trial;
             h.spring = spring + vt * dt;                                         // Eq. 27
             if constexpr (track_energy) out.dissipated_viscous = gamma_t_ * vt.squaredNorm() * dt;
         } else {
-            const double limit = mu_d_ * fn;
+            const double limit = dynamic_limit, trial_magnitude = std::sqrt(trial_sq);
             const V t = trial_magnitude > 0.0 ? V(trial / trial_magnitude) : V(V::Zero());
             out.force = limit * t;                                               // Eq. 29
             h.spring = -(limit / kt_) * t;                                       // Eq. 28

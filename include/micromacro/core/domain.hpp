@@ -62,8 +62,10 @@ public:
         V d = a - b;
         for (int k = 0; k < dim; ++k)
             if (periodic_[k]) {
+                // Wrapped positions differ by less than L, so the division and rounding (a
+                // library call on baseline x86-64) are needed only past half a box length.
                 const double L = hi_[k] - lo_[k];
-                d[k] -= L * std::round(d[k] / L);
+                if (std::abs(d[k]) >= 0.5 * L) d[k] -= L * std::round(d[k] / L);
             }
         return d;
     }
@@ -71,7 +73,7 @@ public:
     /// Maps a position back into [lo, hi) on periodic axes; leaves open axes alone.
     void wrap(V& x) const {
         for (int k = 0; k < dim; ++k)
-            if (periodic_[k]) {
+            if (periodic_[k] && (x[k] < lo_[k] || x[k] >= hi_[k])) {  // inside: nothing to do (the usual case)
                 const double L = hi_[k] - lo_[k];
                 x[k] -= L * std::floor((x[k] - lo_[k]) / L);
                 if (x[k] >= hi_[k]) x[k] = lo_[k];  // guards the round-off case x = hi
