@@ -29,6 +29,7 @@ public:
 
     History& history(std::size_t c) requires has_history { return history_[c]; }
     const History& history(std::size_t c) const requires has_history { return history_[c]; }
+    History* history_data() requires has_history { return history_.data(); }
 
     /// Replaces the pairs by the sorted list in scratch(), keeping the history of every pair
     /// present in both lists.

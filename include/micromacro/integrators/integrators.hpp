@@ -1,7 +1,8 @@
 #pragma once
 // Time integrators. An integrator orders the stages every scene offers:
-//   kick(h)               v += h F/m (and omega += h T/I when particles rotate),
-//   drift(h)              x += h v, walls move, time advances, neighbour lists refresh,
+//   kick_drift_kick(h1, dt, h2)
+//                         v += h1 F/m, x += dt v, v += h2 F/m (omega += (h1 + h2) T/I when
+//                         particles rotate); walls move, time advances, neighbour lists refresh,
 //   compute_forces()      all forces and torques at the current positions and velocities,
 //   kick_force_change(h)  v += h (F - F_previous)/m, for integrators that keep F_previous.
 // On entry to step() the forces belong to the current state; so they do on exit.
@@ -22,9 +23,8 @@ struct VelocityVerlet {
     static constexpr bool keeps_previous_forces = true;
     template <class Stages>
     void step(Stages& s, double dt) const {
-        s.kick(0.5 * dt);               // v_{n+1/2}
-        s.drift(dt);                    // x_{n+1}
-        s.kick(0.5 * dt);               // predicted v_{n+1} = v_{n+1/2} + dt/2 a_n
+        // v_{n+1/2}, x_{n+1}, predicted v_{n+1} = v_{n+1/2} + dt/2 a_n
+        s.kick_drift_kick(0.5 * dt, dt, 0.5 * dt);
         s.compute_forces();             // a_{n+1}
         s.kick_force_change(0.5 * dt);  // v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}
     }
@@ -43,8 +43,7 @@ struct SymplecticEuler {
     static constexpr bool keeps_previous_forces = false;
     template <class Stages>
     void step(Stages& s, double dt) const {
-        s.kick(dt);
-        s.drift(dt);
+        s.kick_drift_kick(dt, dt, 0.0);
         s.compute_forces();
     }
     /// Largest stable dt for x'' = -omega0^2 x - 2 eta x'.
