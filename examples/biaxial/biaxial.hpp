@@ -37,15 +37,15 @@ struct Config {
     double dt_fraction = 50.0;     // dt = t_c / dt_fraction, t_c of two mean particles
     unsigned long long seed = 1;
     double gamma_b = 1e-4;         // background damping while loading (kg/s)
-    double gamma_b_prepare = 1e-2; // background damping while preparing (kg/s)
+    double gamma_b_prepare = 1e-3; // background damping while preparing (kg/s); more slows the walls down
     double wall_mass = 1e-4;       // kg
     double wall_damping = 0.63;    // kg/s while loading (about 0.1 of critical on one contact)
-    double prepare_speed = 0.5;    // m/s: wall damping while preparing is p A / this speed
+    double prepare_speed = 5.0;    // m/s: wall damping while preparing is p A / this speed
     double prepare_kinetic_ratio = 1e-6;
     double output_interval = 1e-3; // s between rows of the time series
     double box_factor = 2.0;       // initial box side over the expected final side
     bool wall_friction = false;    // walls use the particles' friction (default: smooth walls, principal axes)
-    double mu_prepare = 0.5;       // friction while preparing (lower: denser packings)
+    double mu_prepare = 0.1;       // friction while preparing: low gives the paper's volume fraction 0.82-0.84
     double max_prepare_time = 0.0; // s; 0 = 50 x the time a wall needs to cross the box at prepare_speed
 
     // Derived.
