@@ -40,6 +40,7 @@ struct Config {
     double gamma_b_prepare = 1e-3; // background damping while preparing (kg/s); more slows the walls down
     double wall_mass = 1e-4;       // kg
     double wall_damping = 0.63;    // kg/s while loading (about 0.1 of critical on one contact)
+    double wall_follow_time = 0.0; // s: damper anchor follows the wall (0 = Eq. 18's lab anchor)
     double prepare_speed = 5.0;    // m/s: wall damping while preparing is p A / this speed
     double prepare_kinetic_ratio = 1e-6;
     double output_interval = 1e-3; // s between rows of the time series
@@ -92,6 +93,7 @@ inline void validate(const Config& c) {
     mm::detail::require_non_negative(c.gamma_b_prepare, "--gamma-b-prepare", "use 0 for no background damping");
     mm::detail::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
     mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
+    mm::detail::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
     mm::detail::require_positive(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s");
     mm::detail::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
     if (!(c.radius_min > 0.0 && c.radius_max >= c.radius_min))
@@ -197,7 +199,7 @@ public:
             if (k == up)
                 upper.motion = mm::StrainControlled{c_.final_strain * upper.coordinate(), c_.period, sim_.time()};
             else
-                upper.motion = mm::StressControlled{c_.pressure, c_.wall_mass, c_.wall_damping};
+                upper.motion = mm::StressControlled{c_.pressure, c_.wall_mass, c_.wall_damping, 0.0, c_.wall_follow_time};
             box0_[k] = upper.coordinate() - walls[2 * k].coordinate();
         }
         sim_.template body_force<mm::BackgroundDamping>() = mm::BackgroundDamping(c_.gamma_b, c_.rotational_damping(c_.gamma_b));

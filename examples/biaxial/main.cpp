@@ -83,6 +83,7 @@ nlohmann::ordered_json parameters(const Config& c) {
             {"gamma_r_kg_m2_s", c.rotational_damping(c.gamma_b)},
             {"wall_mass_kg", c.wall_mass},
             {"wall_damping_kg_s", c.wall_damping},
+            {"wall_follow_time_s", c.wall_follow_time},
             {"prepare_speed_m_s", c.prepare_speed},
             {"prepare_kinetic_ratio", c.prepare_kinetic_ratio},
             {"output_interval_s", c.output_interval},
@@ -114,6 +115,7 @@ Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     c.gamma_b_prepare = p.at("gamma_b_prepare_kg_s");
     c.wall_mass = p.at("wall_mass_kg");
     c.wall_damping = p.at("wall_damping_kg_s");
+    c.wall_follow_time = p.at("wall_follow_time_s");
     c.prepare_speed = p.at("prepare_speed_m_s");
     c.prepare_kinetic_ratio = p.at("prepare_kinetic_ratio");
     c.output_interval = p.at("output_interval_s");
@@ -393,6 +395,8 @@ int main(int argc, char** argv) {
     auto* ps = app.add_option("--prepare-speed", "wall speed while preparing in m/s: wall damping = p A / speed (default 5)");
     auto* mw = app.add_option("--wall-mass", "m_w of Eq. 18 in kg (default 1e-4)");
     auto* gw = app.add_option("--wall-damping", "gamma_w of Eq. 18 in kg/s while loading (default 0.63)");
+    auto* gwt = app.add_option("--wall-follow-time", "the side wall's damper follows its velocity with this time constant in s "
+                                                     "(0: Eq. 18, anchored; see walls.hpp)");
     auto* interval = app.add_option("--output-interval", "time between rows of timeseries.csv in s");
     bool no_pictures = false;
     app.add_flag("--no-pictures", no_pictures, "skip the snapshots and plots at the end");
@@ -433,6 +437,7 @@ int main(int argc, char** argv) {
         set(ps, c.prepare_speed);
         set(mw, c.wall_mass);
         set(gw, c.wall_damping);
+        set(gwt, c.wall_follow_time);
         set(interval, c.output_interval);
         if (!plan.from_prepared.empty() && !particles->count())  // the prepared state decides
             c.particles = nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared))

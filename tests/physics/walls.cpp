@@ -84,6 +84,31 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(stress_controlled_wall_is_a_damped_oscillator, D, 
     BOOST_TEST(std::abs(sim.energy_residual()) < 2e-3);
 }
 
+// With a following anchor (follow_time tau) the damper resists only changes of the wall's
+// velocity: a free wall launched at v0 neither stops (as under Eq. 18) nor keeps v0; m v + gamma
+// tau v_anchor is conserved, so it settles at v0 m / (m + gamma tau), and the books hold the
+// kinetic energy it lost.
+BOOST_AUTO_TEST_CASE_TEMPLATE(following_damper_does_not_resist_steady_motion, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    const double mw = 1e-3, gamma_w = 0.5, tau = 4e-3, v0 = -0.2;  // outward, away from the particle
+    for (const double follow : {0.0, tau}) {
+        mm::Walls<dim> walls;
+        const std::size_t top = walls.size();
+        walls.add_axis_aligned(up, false, 0.01, mm::StressControlled{0.0, mw, gamma_w, 1.0, follow});
+        walls[top].speed = -v0;  // speed is along the inward normal, which points down
+        WallScene<dim> sim(mm::FrictionlessLinear{mm::LinearSpringDashpot(k, 0.0)}, {}, walls);
+        sim.particles().add(mm::Vec<dim>::Zero(), 1e-3, 1.0);
+        sim.set_time_step(1e-6);
+        sim.run(static_cast<std::size_t>(20 * mw / gamma_w / 1e-6));  // 20 damper times
+        const double v = -sim.walls()[top].speed;
+        const double expected = follow > 0 ? v0 * mw / (mw + gamma_w * tau) : 0.0;
+        BOOST_TEST_MESSAGE(dim << "D, follow_time " << follow << ": wall speed " << v << ", expected " << expected);
+        BOOST_TEST(std::abs(v - expected) < 2e-3 * std::abs(v0));
+        BOOST_TEST(std::abs(sim.books().dissipated_walls - 0.5 * mw * (v0 * v0 - v * v)) < 1e-3 * 0.5 * mw * v0 * v0);
+    }
+}
+
 // A strain-controlled wall squeezing a particle against a fixed wall does work; slowly and with
 // background-free damping, the books close on that work.
 BOOST_AUTO_TEST_CASE_TEMPLATE(driven_wall_work_is_booked, D, Dims) {

@@ -20,6 +20,7 @@
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/parallel.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/particles/particles.hpp"
@@ -97,6 +98,24 @@ public:
     void allow_unstable_time_step(bool allow) { allow_unstable_ = allow; }
     /// Energy tracking costs a few flops per contact; on by default.
     void set_track_energy(bool on) { track_energy_ = on; }
+
+    /// Threads for the pair loop and the particle passes (OpenMP; compile with -fopenmp). The
+    /// candidates are split into equal contiguous shares, each thread adds its forces into its
+    /// own array and the arrays are summed in thread order: a fixed thread count gives the same
+    /// bits every run, another count differs by round-off only.
+    void set_threads(int threads) {
+#ifdef _OPENMP
+        if (threads < 1 || threads > omp_get_max_threads() * 4)
+            detail::throw_input_error("threads = ", threads, " is outside 1..", omp_get_max_threads() * 4,
+                                      "; use up to the number of cores (", omp_get_num_procs(), " here)");
+#else
+        if (threads != 1)
+            detail::throw_input_error("threads = ", threads, " needs OpenMP, but this program was compiled without "
+                                      "it; compile with -fopenmp (CMake: link OpenMP::OpenMP_CXX) or use 1 thread");
+#endif
+        threads_ = threads;
+    }
+    int threads() const { return threads_; }
 
     /// The largest stable time step of the scene's stiffest two-body oscillation: the normal
     /// spring between the two lightest particles, with friction the tangential spring with
@@ -214,6 +233,7 @@ public:
         const V* reference = reference_.data();
         const std::size_t n = particles_.size();
         double max_move_sq = 0.0;
+        MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) reduction(max : max_move_sq) if (threads_ > 1))
         for (std::size_t i = 0; i < n; ++i) {
             const V a = inv_m[i] * f[i];
             v[i] += h_before * a;
@@ -226,6 +246,7 @@ public:
             auto* w = particles_.template get<field::AngularVelocity>().data();
             const auto* t = particles_.template get<field::Torque>().data();
             const double* inv_I = particles_.template get<field::InverseInertia>().data();
+            MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) if (threads_ > 1))
             for (std::size_t i = 0; i < n; ++i) w[i] += (h_before + h_after) * inv_I[i] * t[i];
         }
         if (!std::isfinite(max_move_sq)) report_blow_up();
@@ -245,11 +266,13 @@ public:
         auto& v = particles_.template get<field::Velocity>();
         const auto& f = particles_.template get<field::Force>();
         const auto& inv_m = particles_.template get<field::InverseMass>();
+        MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) if (threads_ > 1))
         for (std::size_t i = 0; i < v.size(); ++i) v[i] += (h * inv_m[i]) * (f[i] - previous_force_[i]);
         if constexpr (rotation) {
             auto& w = particles_.template get<field::AngularVelocity>();
             const auto& t = particles_.template get<field::Torque>();
             const auto& inv_I = particles_.template get<field::InverseInertia>();
+            MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) if (threads_ > 1))
             for (std::size_t i = 0; i < w.size(); ++i) w[i] += (h * inv_I[i]) * (t[i] - previous_torque_[i]);
         }
     }
@@ -421,6 +444,8 @@ public:
         std::size_t b = particles_.size() * particles_.bytes_per_particle() + pairs_.bytes() +
                         reference_.capacity() * sizeof(V);
         if constexpr (has_walls) b += wall_contacts_.bytes();
+        for (const auto& a : thread_force_) b += a.capacity() * sizeof(V);
+        for (const auto& a : thread_torque_) b += a.capacity() * sizeof(A);
         if constexpr (Integrator::keeps_previous_forces) {
             b += previous_force_.capacity() * sizeof(V);
             if constexpr (rotation) b += previous_torque_.capacity() * sizeof(A);
@@ -462,22 +487,20 @@ private:
         return out;
     }
 
-    // The one pair loop. Raw pointers and a local energy account: through the vectors the
-    // compiler would reload every array's address after each store to the forces.
+    // The one pair loop, over candidates [begin, end), adding into the arrays f and torque (the
+    // particles' own, or a thread's). Raw pointers and a local energy account: through the
+    // vectors the compiler would reload every array's address after each store to the forces.
+    // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
     template <bool track>
-    void pair_forces() {
+    void pair_forces(std::size_t begin, std::size_t end, V* f, [[maybe_unused]] A* torque, EnergyBooks& books,
+                     IndexPair& coincident) {
         const V* x = particles_.position().data();
         const V* v = particles_.velocity().data();
         const double* r = particles_.radius().data();
-        V* f = particles_.template get<field::Force>().data();
         const IndexPair* pair = pairs_.pairs().data();
         [[maybe_unused]] History* history = nullptr;
-        [[maybe_unused]] A* torque = nullptr;
         if constexpr (has_tangential) history = pairs_.history_data();
-        if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
-        EnergyBooks books;
-        const std::size_t count = pairs_.size();
-        for (std::size_t c = 0; c < count; ++c) {
+        for (std::size_t c = begin; c < end; ++c) {
             const auto [i, j] = pair[c];
             const V d = domain_.separation(x[i], x[j]);
             const double dist_sq = d.squaredNorm();
@@ -486,7 +509,10 @@ private:
                 if constexpr (has_tangential) history[c] = History{};  // the contact opened
                 continue;
             }
-            if (dist_sq == 0.0) report_coincident(i, j);
+            if (dist_sq == 0.0) {
+                coincident = pair[c];
+                continue;
+            }
             const double dist = std::sqrt(dist_sq);
             const V n = d * (1.0 / dist);
             const V dv = v[i] - v[j];
@@ -501,11 +527,62 @@ private:
                 torque[j] -= r[j] * arm;
             }
         }
-        if constexpr (track) {
-            step_books_.dissipated_normal += books.dissipated_normal;
-            step_books_.dissipated_tangential += books.dissipated_tangential;
-            step_books_.dissipated_sliding += books.dissipated_sliding;
+    }
+
+    // All pair forces, on threads_ threads: each takes an equal contiguous share of the
+    // candidates and adds into its own arrays (thread 0 into the particles'); then each sums a
+    // share of the particles over the threads in thread order and clears the thread arrays.
+    template <bool track>
+    void pair_forces() {
+        V* f = particles_.template get<field::Force>().data();
+        A* torque = nullptr;
+        if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
+        const std::size_t count = pairs_.size(), n = particles_.size();
+        const int shares = threads_;
+        thread_books_.assign(shares, EnergyBooks{});
+        coincident_.assign(shares, IndexPair{0, 0});
+        if (shares == 1) {
+            pair_forces<track>(0, count, f, torque, thread_books_[0], coincident_[0]);
+        } else {
+            thread_force_.resize(shares - 1);
+            for (auto& a : thread_force_) a.resize(n, V::Zero());  // kept zero between calls
+            if constexpr (rotation) {
+                thread_torque_.resize(shares - 1);
+                for (auto& a : thread_torque_) a.resize(n, T::zero_angular());
+            }
+            MICROMACRO_OMP(omp parallel num_threads(shares)) {
+                const int t = detail::thread_number();
+                V* own_f = t == 0 ? f : thread_force_[t - 1].data();
+                A* own_torque = nullptr;
+                if constexpr (rotation) own_torque = t == 0 ? torque : thread_torque_[t - 1].data();
+                pair_forces<track>(detail::share_begin(count, t, shares), detail::share_begin(count, t + 1, shares),
+                                   own_f, own_torque, thread_books_[t], coincident_[t]);
+                MICROMACRO_OMP(omp barrier)
+                const std::size_t i0 = detail::share_begin(n, t, shares), i1 = detail::share_begin(n, t + 1, shares);
+                for (int u = 1; u < shares; ++u) {
+                    V* other = thread_force_[u - 1].data();
+                    for (std::size_t i = i0; i < i1; ++i) {
+                        f[i] += other[i];
+                        other[i] = V::Zero();
+                    }
+                    if constexpr (rotation) {
+                        A* other_torque = thread_torque_[u - 1].data();
+                        for (std::size_t i = i0; i < i1; ++i) {
+                            torque[i] += other_torque[i];
+                            other_torque[i] = T::zero_angular();
+                        }
+                    }
+                }
+            }
         }
+        for (const IndexPair& c : coincident_)
+            if (c.i != c.j) report_coincident(c.i, c.j);
+        if constexpr (track)
+            for (const EnergyBooks& b : thread_books_) {
+                step_books_.dissipated_normal += b.dissipated_normal;
+                step_books_.dissipated_tangential += b.dissipated_tangential;
+                step_books_.dissipated_sliding += b.dissipated_sliding;
+            }
     }
 
     template <bool track>
@@ -570,7 +647,7 @@ private:
                 // The wall is part of the system: the pressure does work, its damper dissipates.
                 const double area = walls_.area(wall, domain_);
                 books_.work_by_walls += s->pressure * 0.5 * (area + last.area) * moved;
-                books_.dissipated_walls += s->damping * wall.speed * moved;
+                books_.dissipated_walls += s->damping * s->damped_speed(wall.speed) * moved;
                 last.area = area;
             } else {
                 // A driven wall does work -F_wall . displacement on the particles.
@@ -676,6 +753,12 @@ private:
     ContactList<History> pairs_;
     [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
     std::vector<V> reference_;
+    // Per-thread scratch of pair_forces() (threads 1..: force and torque arrays, kept zero).
+    int threads_ = 1;
+    std::vector<std::vector<V>> thread_force_;
+    std::vector<std::vector<A>> thread_torque_;
+    std::vector<EnergyBooks> thread_books_;
+    std::vector<IndexPair> coincident_;
     // Forces of the previous evaluation, for integrators that correct with the force change.
     [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<V>, NoHistory> previous_force_;
     [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<A>, NoHistory>

@@ -31,11 +31,23 @@ struct StrainControlled {
 };
 
 /// Eq. 18: the wall is a mass on a damper, pushed inward by pressure times its area.
+///
+/// Eq. 18's damper is anchored to the lab, so a wall that must keep moving (the side wall of a
+/// biaxial test moves as fast as the loaded one) feels gamma_w h' on top of p A: strong damping
+/// biases the pressure. With `follow_time` > 0 the damper's anchor instead follows the wall's
+/// velocity with that time constant: steady motion is not resisted (the bias falls to gamma_w
+/// times follow_time times the wall's acceleration), oscillations faster than 1 / follow_time
+/// are damped as by Eq. 18.
 struct StressControlled {
     double pressure;  ///< p (N/m in 2D, Pa in 3D)
     double mass;      ///< m_w (kg)
     double damping;   ///< gamma_w (kg/s)
     double area = 0;  ///< A (m in 2D, m^2 in 3D); 0 = the box cross-section, measured each step
+    double follow_time = 0;   ///< s; 0 = Eq. 18 (damper anchored to the lab)
+    double anchor_speed = 0;  ///< state: the damper anchor's velocity (m/s)
+
+    /// The velocity the damper resists.
+    double damped_speed(double wall_speed) const { return follow_time > 0 ? wall_speed - anchor_speed : wall_speed; }
 };
 
 using WallMotion = std::variant<FixedMotion, StrainControlled, StressControlled>;
@@ -170,8 +182,9 @@ public:
                 w.speed = (phase > 0.0 && phase < std::numbers::pi) ? 0.5 * s->travel * omega * std::sin(phase) : 0.0;
             } else if (auto* p = std::get_if<StressControlled>(&w.motion)) {
                 const double push = p->pressure * area(w, domain) + w.force.dot(w.normal);
-                w.speed += dt * (push - p->damping * w.speed) / p->mass;
+                w.speed += dt * (push - p->damping * p->damped_speed(w.speed)) / p->mass;
                 w.offset += dt * w.speed;
+                if (p->follow_time > 0) p->anchor_speed += (w.speed - p->anchor_speed) * std::min(1.0, dt / p->follow_time);
             }
         }
     }
@@ -186,6 +199,7 @@ private:
             detail::require_positive(p->mass, "StressControlled::mass", "give the wall mass m_w of Eq. 18 in kg");
             detail::require_non_negative(p->damping, "StressControlled::damping", "give gamma_w of Eq. 18 in kg/s");
             detail::require_non_negative(p->area, "StressControlled::area", "use 0 for the box cross-section");
+            detail::require_non_negative(p->follow_time, "StressControlled::follow_time", "use 0 for Eq. 18's damper");
             if (w.axis() < 0 && p->area == 0.0)
                 detail::throw_input_error("a stress-controlled wall that is not axis-aligned needs an explicit area");
         }
