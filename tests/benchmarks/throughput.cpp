@@ -4,10 +4,12 @@
 //   throughput --dim 2 --particles 20000 --law frictional --steps 2000
 //   throughput --packing packing.csv --box 0 0.1 0 0.1 --periodic x,z --k 1e5 --kt 2e4 --mu 0.5 --json
 //
-// The generated packing is a jittered lattice of paper particles (radii 0.5-1.5 mm scaled to the
-// lattice) in a periodic box with about 1% overlap, so every particle has a full set of contacts
-// from the first step (coordination about 4 in 2D, 6 in 3D). With --shear the particles get a
-// small velocity profile (a slowly sheared state). Double precision (the engine has no other mode
+// The generated packing is a square (2D) or simple cubic (3D) lattice of equal 1 mm particles
+// in a periodic box, pressed together by 1e-4 of a diameter and jittered by 1e-5 of it, so every
+// particle keeps its 4 (2D) or 6 (3D) contacts and the packing stays static: the cost of a
+// dense packing at rest. (A 1% overlap, tried first, makes the square lattice buckle: the
+// first thousands of steps then time a collapsing, hot packing.) With --shear the particles get
+// a velocity profile of 1/s (slowly sheared). Double precision (the engine has no other mode
 // yet); --threads splits the pair loop and the particle passes (OpenMP).
 #include <sys/resource.h>
 
@@ -52,9 +54,9 @@ void fill_lattice(std::vector<mm::Vec<dim>>& x, std::vector<double>& r, double& 
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     for (std::size_t i = 0; i < n; ++i) {
         mm::Vec<dim> p;
-        for (int a = 0, t = static_cast<int>(i); a < dim; ++a, t /= per_side) p[a] = (t % per_side + 0.5) * spacing + 2e-5 * U(rng);
+        for (int a = 0, t = static_cast<int>(i); a < dim; ++a, t /= per_side) p[a] = (t % per_side + 0.5) * spacing + 2e-8 * U(rng);
         x.push_back(p);
-        r.push_back(0.5 * spacing * 1.01);  // 1% overlap with the lattice neighbours
+        r.push_back(0.5 * spacing * 1.0001);  // overlap 1e-4 of a diameter with the lattice neighbours
     }
 }
 
