@@ -2,7 +2,7 @@
 # Regenerates the README's paper figures and table: runs the paper preset (unless RUN names an
 # existing run directory) and renders into docs/figures. Needs a build (scripts/setup.sh run) and,
 # without a display, xvfb-run.
-#   scripts/paper_figures.sh            # runs the paper preset into runs/paper (about 7 minutes)
+#   scripts/paper_figures.sh            # runs the paper preset into runs/paper (about 3 minutes)
 #   RUN=runs/paper scripts/paper_figures.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
