@@ -180,6 +180,7 @@ struct Plan {
     std::size_t vtk_every_rows = 20;  // a VTK frame every this many rows (0: none)
     bool pictures = true;             // snapshots and plots at the end (if a display is there)
     bool quiet = false;
+    int threads = 1;                  // bitwise identical results for a fixed count
 };
 
 template <int dim>
@@ -190,6 +191,7 @@ int run(const Config& c, const Plan& plan) {
     const fs::path& out = plan.out;
     biaxial::Experiment<dim> exp(c);
     auto& sim = exp.simulation();
+    sim.set_threads(plan.threads);
     const double n = static_cast<double>(c.particles);
 
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count(); };
@@ -345,7 +347,8 @@ int run(const Config& c, const Plan& plan) {
                    {"prepare_wall_seconds", prepare_seconds},
                    {"steps", sim.steps_done()},
                    {"prepare_steps", prepare_steps},
-                   {"particle_steps_per_second", pps}};
+                   {"particle_steps_per_second", pps},
+                   {"threads", plan.threads}};
     write_atomically(out / "run.json", j.dump(2) + "\n");
     if (terminal) std::printf("\n");
     if (plan.pictures) make_pictures(out, vtk_times.size(), dim);
@@ -372,6 +375,7 @@ int main(int argc, char** argv) {
     app.add_option("--checkpoint-every", plan.checkpoint_every,
                    "write DIR/checkpoint.state every this many simulated seconds of the loading (0: never)")
         ->capture_default_str();
+    app.add_option("--threads", plan.threads, "threads (OpenMP); the same count gives the same bits")->capture_default_str();
     app.add_option("--vtk-every", plan.vtk_every_rows, "write VTK frames (vtk/*.vtp, *.pvd) every this many rows (0: none)")
         ->capture_default_str();
     app.add_option("--stop-after-rows", plan.stop_after_rows, "testing restarts: die after this many rows, as a kill would")

@@ -116,6 +116,12 @@ public:
         threads_ = threads;
     }
     int threads() const { return threads_; }
+    /// Threads actually used: starting a team costs microseconds, so a scene with fewer than
+    /// 2000 particles per thread runs serially (the choice depends only on N and the count, so
+    /// a fixed count still gives the same bits).
+    int active_threads() const {
+        return particles_.size() >= 2000 * static_cast<std::size_t>(threads_) ? threads_ : 1;
+    }
 
     /// The largest stable time step of the scene's stiffest two-body oscillation: the normal
     /// spring between the two lightest particles, with friction the tangential spring with
@@ -233,7 +239,7 @@ public:
         const V* reference = reference_.data();
         const std::size_t n = particles_.size();
         double max_move_sq = 0.0;
-        MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) reduction(max : max_move_sq) if (threads_ > 1))
+        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq) if (active_threads() > 1))
         for (std::size_t i = 0; i < n; ++i) {
             const V a = inv_m[i] * f[i];
             v[i] += h_before * a;
@@ -246,7 +252,7 @@ public:
             auto* w = particles_.template get<field::AngularVelocity>().data();
             const auto* t = particles_.template get<field::Torque>().data();
             const double* inv_I = particles_.template get<field::InverseInertia>().data();
-            MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) if (threads_ > 1))
+            MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
             for (std::size_t i = 0; i < n; ++i) w[i] += (h_before + h_after) * inv_I[i] * t[i];
         }
         if (!std::isfinite(max_move_sq)) report_blow_up();
@@ -266,13 +272,13 @@ public:
         auto& v = particles_.template get<field::Velocity>();
         const auto& f = particles_.template get<field::Force>();
         const auto& inv_m = particles_.template get<field::InverseMass>();
-        MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) if (threads_ > 1))
+        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
         for (std::size_t i = 0; i < v.size(); ++i) v[i] += (h * inv_m[i]) * (f[i] - previous_force_[i]);
         if constexpr (rotation) {
             auto& w = particles_.template get<field::AngularVelocity>();
             const auto& t = particles_.template get<field::Torque>();
             const auto& inv_I = particles_.template get<field::InverseInertia>();
-            MICROMACRO_OMP(omp parallel for num_threads(threads_) schedule(static) if (threads_ > 1))
+            MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
             for (std::size_t i = 0; i < w.size(); ++i) w[i] += (h * inv_I[i]) * (t[i] - previous_torque_[i]);
         }
     }
@@ -538,7 +544,7 @@ private:
         A* torque = nullptr;
         if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
         const std::size_t count = pairs_.size(), n = particles_.size();
-        const int shares = threads_;
+        const int shares = active_threads();
         thread_books_.assign(shares, EnergyBooks{});
         coincident_.assign(shares, IndexPair{0, 0});
         if (shares == 1) {
