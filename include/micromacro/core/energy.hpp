@@ -15,6 +15,17 @@ struct EnergyBooks {
     double work_by_walls = 0;          ///< done on the system by moving walls and wall pressure
     double work_by_deformation = 0;    ///< energy put in by imposed affine deformations
 
+    /// Adds another account entry by entry (e.g. the threads' shares of one evaluation).
+    void add(const EnergyBooks& o) {
+        dissipated_normal += o.dissipated_normal;
+        dissipated_tangential += o.dissipated_tangential;
+        dissipated_sliding += o.dissipated_sliding;
+        dissipated_background += o.dissipated_background;
+        dissipated_walls += o.dissipated_walls;
+        work_by_walls += o.work_by_walls;
+        work_by_deformation += o.work_by_deformation;
+    }
+
     /// Adds the mean of two evaluations' bookings (trapezoid rule).
     void add_mean(const EnergyBooks& a, const EnergyBooks& b) {
         dissipated_normal += 0.5 * (a.dissipated_normal + b.dissipated_normal);

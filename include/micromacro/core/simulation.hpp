@@ -584,11 +584,7 @@ private:
         for (const IndexPair& c : coincident_)
             if (c.i != c.j) report_coincident(c.i, c.j);
         if constexpr (track)
-            for (const EnergyBooks& b : thread_books_) {
-                step_books_.dissipated_normal += b.dissipated_normal;
-                step_books_.dissipated_tangential += b.dissipated_tangential;
-                step_books_.dissipated_sliding += b.dissipated_sliding;
-            }
+            for (const EnergyBooks& b : thread_books_) step_books_.add(b);  // in thread order
     }
 
     template <bool track>
