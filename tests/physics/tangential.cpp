@@ -59,6 +59,38 @@ void check_rolling() {
     }
 }
 
+// Friction from 0 to 10: the same launch ends rolling at v0 / (1 + I/(m a^2)) for every mu > 0
+// (only the sliding time, 2/7 v0 / (mu g), changes; at mu = 10 the contact sticks at once and the
+// tangential spring rings down) and keeps sliding untouched at mu = 0. Kinetic energy never grows.
+BOOST_AUTO_TEST_CASE_TEMPLATE(friction_from_zero_to_ten, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    for (double mu_value : {0.0, 0.1, 0.5, 2.0, 10.0}) {
+        mm::Walls<dim> walls;
+        walls.add_axis_aligned(up, true, 0.0);
+        FrictionScene<dim> sim(paper_law(mu_value, mu_value), {}, walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+        mm::Vec<dim> x = mm::Vec<dim>::Zero();
+        x[up] = a - m * g / k;
+        sim.particles().add(x, a, m, 0.4 * m * a * a);
+        const mm::Vec<dim> v0 = 0.03 * unit<dim>(0);
+        sim.particles().velocity()[0] = v0;
+        sim.set_time_step(wall_dt());
+        const double e0 = 0.5 * m * v0.squaredNorm();
+        double highest = 0.0;
+        for (int chunk = 0; chunk < 30; ++chunk) {  // 30 ms: sliding lasts 8.7 ms at mu = 0.1
+            sim.run(static_cast<std::size_t>(1e-3 / wall_dt()));
+            const auto e = sim.energy();
+            highest = std::max(highest, e.kinetic() + e.elastic_tangential);
+        }
+        const double v = sim.particles().velocity()[0][0];
+        const double expected = mu_value > 0 ? v0[0] / 1.4 : v0[0];
+        BOOST_TEST_MESSAGE(dim << "D mu = " << mu_value << ": v/v0 = " << v / v0[0] << ", max (kinetic + tangential) / E0 = "
+                               << highest / e0);
+        BOOST_TEST(std::abs(v / expected - 1.0) < 1e-6, "mu = " << mu_value);
+        BOOST_TEST(highest <= e0 * (1 + 1e-9), "mu = " << mu_value);
+    }
+}
+
 BOOST_AUTO_TEST_CASE_TEMPLATE(sliding_particle_ends_rolling, D, Dims) {
     check_rolling<D::value, mm::VelocityVerlet>();
     check_rolling<D::value, mm::SymplecticEuler>();

@@ -7,6 +7,7 @@
 #include <limits>
 #include <string>
 
+#include "support/expect_error.hpp"
 #include "support/scenes.hpp"
 
 using namespace mmtest;
@@ -14,23 +15,6 @@ using namespace mmtest;
 namespace {
 const double not_a_number = std::numeric_limits<double>::quiet_NaN();
 const double infinite = std::numeric_limits<double>::infinity();
-
-// Passes if `f` throws E whose message contains every fragment.
-template <class E = mm::InputError, class F>
-void expect_error(F&& f, std::initializer_list<std::string> fragments) {
-    try {
-        f();
-    } catch (const E& e) {
-        const std::string what = e.what();
-        for (const auto& fragment : fragments)
-            BOOST_TEST(what.find(fragment) != std::string::npos, "message '" << what << "' lacks '" << fragment << "'");
-        return;
-    } catch (const std::exception& e) {
-        BOOST_ERROR("wrong exception type: " << e.what());
-        return;
-    }
-    BOOST_ERROR("no exception");
-}
 
 const mm::FrictionlessLinear law{mm::LinearSpringDashpot(k, gamma0)};
 }  // namespace

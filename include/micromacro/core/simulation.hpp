@@ -79,6 +79,8 @@ public:
     }
     template <class F>
     F& body_force() { return std::get<F>(body_forces_); }
+    template <class F>
+    const F& body_force() const { return std::get<F>(body_forces_); }
 
     void set_time_step(double dt) {
         detail::require_positive(dt, "time step dt", "choose dt = t_c / 50 (see contact_duration)");
@@ -176,6 +178,7 @@ public:
             skin_ = n ? 0.2 * mean / n : 1.0;
         }
         if (n) domain_.check_interaction_range(2.0 * *std::max_element(r.begin(), r.end()) + skin_);
+        check_position_resolution();
         const double limit = stable_time_step();
         if (dt_ > limit && !allow_unstable_)
             detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit,
@@ -204,6 +207,19 @@ public:
             compute_forces_without_books();
         }
         prepared_ = true;
+    }
+
+    /// The spacing of representable coordinates at the farthest particle or wall from the origin
+    /// (one unit in the last place): overlaps are differences of coordinates, so this is the
+    /// absolute error of every overlap. Relative to an overlap delta the force error is about
+    /// position_resolution() / delta (2e-6 for overlaps of 1e-7 m at 1e3 m from the origin in
+    /// double precision; tests/physics/extremes.cpp measures it).
+    double position_resolution() const {
+        double far = 0.0;
+        for (const auto& x : particles_.position()) far = std::max(far, x.cwiseAbs().maxCoeff());
+        if constexpr (has_walls)
+            for (const auto& w : walls_) far = std::max(far, std::abs(w.offset));
+        return far * std::numeric_limits<double>::epsilon();
     }
 
     // ---- running -----------------------------------------------------------------------------
@@ -743,6 +759,19 @@ private:
             "the simulation blew up at step ", steps_ + 1, " (t = ", time_, " s): particle ", bad,
             " reached position component ", x[bad][0], ". The time step dt = ", dt_,
             " s against the stability limit ", stable_time_step(), " s is the usual cause; reduce dt"));
+    }
+
+    /// Refuses a scene whose coordinates are so far from the origin that overlaps of 1e-4 of the
+    /// smallest radius (the paper's are 2e-4 of the mean) cannot be resolved to 1%.
+    void check_position_resolution() const {
+        if (particles_.empty()) return;
+        const auto& r = particles_.radius();
+        const double smallest = *std::min_element(r.begin(), r.end());
+        const double resolution = position_resolution();
+        if (resolution > 1e-6 * smallest)
+            detail::throw_input_error("coordinates up to ", resolution / std::numeric_limits<double>::epsilon(),
+                                      " m from the origin are resolved to ", resolution, " m, more than 1e-6 of the smallest radius ",
+                                      smallest, " m: overlaps would lose their digits; move the origin into the packing");
     }
 
     Law law_;
