@@ -41,7 +41,7 @@ struct Config {
     double wall_mass = 1e-4;       // kg
     double wall_damping = 0.63;    // kg/s while loading (about 0.1 of critical on one contact)
     double wall_follow_time = 0.0; // s: damper anchor follows the wall (0 = Eq. 18's lab anchor)
-    double prepare_speed = 5.0;    // m/s: wall damping while preparing is p A / this speed
+    double prepare_speed = 0.0;    // m/s: wall damping while preparing is p A / this speed (0 = automatic)
     double prepare_kinetic_ratio = 1e-6;
     double output_interval = 1e-3; // s between rows of the time series
     double box_factor = 2.0;       // initial box side over the expected final side
@@ -55,6 +55,16 @@ struct Config {
     double contact_duration() const { return mm::contact_duration(k, gamma0, 0.5 * mean_mass()); }
     double time_step() const { return contact_duration() / dt_fraction; }
     double rotational_damping(double gamma) const { return 0.4 * gamma * mean_radius() * mean_radius(); }
+    /// p / k in 2D (p in N/m), p d / k in 3D (p in Pa, d the mean diameter): the overlap over the
+    /// radius, up to a factor. After preparation the largest overlap is 9-14 p/k of the smaller
+    /// radius (measured for p/k = 1e-6 to 1e-2); tests/tools/biaxial_pressures.cpp asserts < 20 p/k.
+    double pressure_over_stiffness() const { return dim == 2 ? pressure / k : pressure * 2 * mean_radius() / k; }
+    /// The walls' speed while preparing: 5 m/s, slower below p/k = 1e-5 in proportion to p/k,
+    /// because the walls bring kinetic energy ~ v^2 into a packing whose elastic energy, against
+    /// which rest is judged, falls as (p/k)^2.
+    double wall_speed_prepare() const {
+        return prepare_speed > 0 ? prepare_speed : 5.0 * std::min(1.0, pressure_over_stiffness() / 1e-5);
+    }
 };
 
 /// The presets of the issue: the paper's N = 1950 at T = 1 s, and a quick run of the same physics.
@@ -82,6 +92,11 @@ inline void validate(const Config& c) {
     if (c.dim != 2 && c.dim != 3) throw_input_error("--dim ", c.dim, " is invalid; use 2 or 3");
     if (c.particles < 2) throw_input_error("--particles ", c.particles, " is too few; use at least 2");
     mm::detail::require_positive(c.pressure, "--pressure", "the side pressure p must be > 0 (N/m in 2D, Pa in 3D)");
+    if (c.pressure_over_stiffness() > 1e-2)
+        throw_input_error("--pressure ", c.pressure, " gives p/k = ", c.pressure_over_stiffness(), (c.dim == 3 ? " (p d / k in 3D)" : ""),
+                          ", above 1e-2: the largest overlaps would exceed 10-20% of a radius (they reach 9-14 p/k, "
+                          "bounded by 20 p/k), beyond the small overlaps the linear contact law assumes; use --pressure <= ",
+                          1e-2 * c.pressure / c.pressure_over_stiffness());
     if (!(c.final_strain > 0.0 && c.final_strain < 1.0))
         throw_input_error("--final-strain ", c.final_strain, " is invalid; the strain eps_zz = 1 - z/z0 must be in (0, 1)");
     mm::detail::require_positive(c.period, "--period", "give T of Eq. 17 in s");
@@ -94,7 +109,7 @@ inline void validate(const Config& c) {
     mm::detail::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
     mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
     mm::detail::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
-    mm::detail::require_positive(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s");
+    mm::detail::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");
     mm::detail::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
     if (!(c.radius_min > 0.0 && c.radius_max >= c.radius_min))
         throw_input_error("radii [", c.radius_min, ", ", c.radius_max, "] are invalid; need 0 < min <= max");
@@ -170,7 +185,7 @@ public:
     /// elastic energy; returns the simulated time it took.
     double prepare(const std::function<void(const Sim&)>& progress = {}) {
         const double limit = c_.max_prepare_time > 0 ? c_.max_prepare_time
-                                                     : 50.0 * sim_.walls()[1].coordinate() / c_.prepare_speed;
+                                                     : 50.0 * sim_.walls()[1].coordinate() / c_.wall_speed_prepare();
         const double start = sim_.time();
         while (true) {
             sim_.run(1000);
@@ -318,10 +333,10 @@ private:
     }
 
     mm::WallMotion prepare_motion(double L) const {
-        // Damping for a terminal speed of prepare_speed at the initial area; as the box shrinks the
+        // Damping for a terminal speed of wall_speed_prepare() at the initial area; as the box shrinks the
         // push p A and with it the wall's speed drop.
         const double area = std::pow(L, dim - 1);
-        return mm::StressControlled{c_.pressure, c_.wall_mass, c_.pressure * area / c_.prepare_speed};
+        return mm::StressControlled{c_.pressure, c_.wall_mass, c_.pressure * area / c_.wall_speed_prepare()};
     }
 
     Config c_;

@@ -396,7 +396,7 @@ int main(int argc, char** argv) {
     auto* seed = app.add_option("--seed", "random seed of the initial placement (default 1)");
     auto* gb = app.add_option("--gamma-b", "background damping while loading in kg/s (default 1e-4)");
     auto* gbp = app.add_option("--gamma-b-prepare", "background damping while preparing in kg/s (default 1e-3)");
-    auto* ps = app.add_option("--prepare-speed", "wall speed while preparing in m/s: wall damping = p A / speed (default 5)");
+    auto* ps = app.add_option("--prepare-speed", "wall speed while preparing in m/s: wall damping = p A / speed (default 0: 5 m/s, in proportion to p/k below p/k = 1e-5)");
     auto* mw = app.add_option("--wall-mass", "m_w of Eq. 18 in kg (default 1e-4)");
     auto* gw = app.add_option("--wall-damping", "gamma_w of Eq. 18 in kg/s while loading (default 0.63)");
     auto* gwt = app.add_option("--wall-follow-time", "the side wall's damper follows its velocity with this time constant in s "

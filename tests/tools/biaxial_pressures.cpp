@@ -1,0 +1,56 @@
+// The biaxial preparation across pressures p/k = 1e-6 to 1e-2 (p d / k in 3D): the packing comes
+// to rest with every wall at the target pressure and the largest overlap below the documented
+// 20 p/k of the smaller radius (measured 9-14 p/k). Above p/k = 1e-2 the configuration is refused
+// before any work.
+#define BOOST_TEST_MODULE tools_biaxial_pressures
+#include <boost/test/unit_test.hpp>
+
+#include <algorithm>
+
+#include "biaxial/biaxial.hpp"
+#include "support/expect_error.hpp"
+#include "support/scenes.hpp"
+
+namespace {
+template <int dim>
+biaxial::Config config_for(double pressure_over_stiffness) {
+    biaxial::Config c;
+    c.dim = dim;
+    biaxial::apply_preset(c, "quick");
+    c.particles = 60;  // the slowest case (3D, p/k = 1e-6) prepares in 1.5e6 steps
+    c.pressure = dim == 2 ? pressure_over_stiffness * c.k : pressure_over_stiffness * c.k / (2 * c.mean_radius());
+    return c;
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(prepared_at_every_pressure, D, mmtest::Dims) {
+    constexpr int dim = D::value;
+    for (double ratio : {1e-6, 1e-4, 1e-2}) {
+        const auto c = config_for<dim>(ratio);
+        BOOST_TEST_REQUIRE(c.pressure_over_stiffness() == ratio, boost::test_tools::tolerance(1e-12));
+        biaxial::validate(c);
+        biaxial::Experiment<dim> e(c);
+        e.build();
+        e.prepare();
+        const auto s = micromacro::take_snapshot(e.simulation());
+        const auto wall = micromacro::wall_stress(s);
+        double largest = 0.0;
+        e.simulation().for_each_contact([&](const auto& contact) {
+            const double a = contact.wall ? s.radius[contact.i] : std::min(s.radius[contact.i], s.radius[contact.j]);
+            largest = std::max(largest, contact.geometry.overlap / a);
+        });
+        BOOST_TEST_MESSAGE(dim << "D p/k = " << ratio << ": " << e.simulation().steps_done() << " steps, largest overlap "
+                               << largest / ratio << " p/k of the radius");
+        // At rest each wall's push balances p (the walls' and particles' kinetic energy is below
+        // 1e-6 of the elastic energy).
+        for (int axis = 0; axis < dim; ++axis)
+            BOOST_TEST(std::abs(wall(axis, axis) / c.pressure - 1) < 1e-3, "p/k = " << ratio << ", axis " << axis);
+        BOOST_TEST(largest < 20 * ratio, "p/k = " << ratio);
+        BOOST_TEST(largest > 2 * ratio, "p/k = " << ratio);  // the overlap does scale with p/k
+    }
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(pressure_above_the_small_overlap_range_is_refused, D, mmtest::Dims) {
+    const auto c = config_for<D::value>(2e-2);
+    mmtest::expect_error([&] { biaxial::validate(c); }, {"p/k = 0.02", "above 1e-2", "use --pressure <= "});
+}
