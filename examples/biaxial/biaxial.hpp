@@ -126,11 +126,11 @@ struct Row {
     }
 };
 
-template <int dim>
+template <int dim, class Integrator = mm::VelocityVerlet>
 class Experiment {
 public:
     using Law = mm::FrictionalLinear;
-    using Sim = mm::Simulation<dim, Law, mm::Walls<dim>, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping>;
+    using Sim = mm::Simulation<dim, Law, mm::Walls<dim>, Integrator, mm::LinkedCells, mm::BackgroundDamping>;
     using V = mm::Vec<dim>;
     static constexpr int up = dim - 1;  // the loaded axis (the paper's z, index 2)
 
