@@ -110,10 +110,12 @@ PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
     PackingSnapshot<dim> s;
     s.domain = sim.domain();
     const auto& p = sim.particles();
-    s.position = p.position();
-    s.velocity = p.velocity();
-    s.radius = p.radius();
-    s.mass = p.mass();
+    for (std::size_t i = 0; i < p.size(); ++i) {  // stored in Real, analysed in double
+        s.position.push_back(convert<double>(p.position()[i]));
+        s.velocity.push_back(convert<double>(p.velocity()[i]));
+        s.radius.push_back(p.radius()[i]);
+        s.mass.push_back(p.mass()[i]);
+    }
     double kt = 0.0;
     if constexpr (Sim::has_tangential) kt = sim.law().tangential.stiffness();
     const double k = sim.law().normal.stiffness();

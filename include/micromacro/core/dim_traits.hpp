@@ -7,6 +7,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross product
 #include <concepts>
+#include <type_traits>
 #include <numbers>
 
 namespace micromacro {
@@ -56,9 +57,20 @@ struct DimTraits<3> {
     static double dot(const Angular& a, const Angular& b) { return a.dot(b); }
 };
 
-template <int dim>
-using Vec = typename DimTraits<dim>::Vec;
-template <int dim>
-using Angular = typename DimTraits<dim>::Angular;
+/// A position, velocity or force; `Real` is the storage precision (the engine computes in
+/// double and may store particle state in float, see BasicSimulation).
+template <int dim, class Real = double>
+using Vec = Eigen::Matrix<Real, dim, 1>;
+/// Angular velocity or torque: a scalar in 2D, a 3-vector in 3D.
+template <int dim, class Real = double>
+using Angular = std::conditional_t<dim == 2, Real, Eigen::Matrix<Real, 3, 1>>;
+
+/// Converts a stored value (scalar or Eigen vector) to precision `To`; free when it already is.
+template <class To, class From>
+decltype(auto) convert(const From& x) {
+    if constexpr (std::is_arithmetic_v<From>) return static_cast<To>(x);
+    else if constexpr (std::is_same_v<typename From::Scalar, To>) return (x);
+    else return x.template cast<To>().eval();
+}
 
 }  // namespace micromacro

@@ -44,23 +44,31 @@ struct ContactView {
     Vec<dim> force() const { return normal_force * geometry.normal + tangential_force; }
 };
 
-template <int dim, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet,
+/// The engine. `Real` is the storage precision of the particle state (positions, velocities,
+/// forces, radii, masses): every force and update is computed in double, and with float each
+/// stored value is rounded to float, which halves the particles' memory and its traffic but
+/// resolves positions only to ~6e-8 of their magnitude (prepare() checks that against the
+/// radii). Contact springs, walls and energies stay double. `Simulation` is the double engine.
+template <int dim, class Real, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet,
           class Neighbors = LinkedCells, class... BodyForces>
-    requires SupportedDimension<dim>
-class Simulation {
+    requires SupportedDimension<dim> && (std::is_same_v<Real, double> || std::is_same_v<Real, float>)
+class BasicSimulation {
 public:
     static constexpr int dimension = dim;
     static constexpr bool rotation = Law::needs_rotation;
     static constexpr bool has_tangential = Law::has_tangential;
     static constexpr bool has_walls = !std::is_same_v<Boundary, NoWalls>;
-    using V = Vec<dim>;
+    using Scalar = Real;
+    using V = Vec<dim>;             // arithmetic: double
     using A = Angular<dim>;
+    using SV = Vec<dim, Real>;      // storage
+    using SA = Angular<dim, Real>;
     using T = DimTraits<dim>;
-    using ParticleSet = Particles<dim, rotation>;
+    using ParticleSet = Particles<dim, rotation, Real>;
     using History = typename Law::template History<dim>;
 
-    explicit Simulation(Law law, Domain<dim> domain = {}, Boundary walls = {}, Integrator integrator = {},
-                        Neighbors neighbors = {}, BodyForces... forces)
+    explicit BasicSimulation(Law law, Domain<dim> domain = {}, Boundary walls = {}, Integrator integrator = {},
+                             Neighbors neighbors = {}, BodyForces... forces)
         : law_(law), domain_(domain), walls_(std::move(walls)), integrator_(integrator),
           neighbors_(std::move(neighbors)), body_forces_(forces...) {}
 
@@ -100,6 +108,12 @@ public:
     void allow_unstable_time_step(bool allow) { allow_unstable_ = allow; }
     /// Energy tracking costs a few flops per contact; on by default.
     void set_track_energy(bool on) { track_energy_ = on; }
+    /// Lets prepare() accept positions stored more coarsely than 1e-6 of the smallest radius
+    /// (see position_resolution(); float storage usually needs this).
+    void allow_coarse_positions(bool allow) {
+        allow_coarse_positions_ = allow;
+        prepared_ = false;
+    }
 
     /// Threads for the pair loop and the particle passes (OpenMP; compile with -fopenmp). The
     /// candidates are split into equal contiguous shares, each thread adds its forces into its
@@ -146,7 +160,7 @@ public:
             double inv_t = 0.0;
             for (std::size_t i = 0; i < particles_.size(); ++i) {
                 const double a = particles_.radius()[i];
-                inv_t = std::max(inv_t, inv_m[i] + a * a * inv_I[i]);
+                inv_t = std::max(inv_t, double(inv_m[i]) + a * a * double(inv_I[i]));
             }
             const double inv_mu_t = partners * inv_t;
             limit = std::min(limit, Integrator::stability_limit(std::sqrt(law_.tangential.stiffness() * inv_mu_t),
@@ -174,17 +188,21 @@ public:
         const auto& r = particles_.radius();
         if (!(skin_ > 0.0)) {
             double mean = 0.0;
-            for (double a : r) mean += a;
+            for (double a : r) mean += a;  // in double whatever the storage
             skin_ = n ? 0.2 * mean / n : 1.0;
         }
-        if (n) domain_.check_interaction_range(2.0 * *std::max_element(r.begin(), r.end()) + skin_);
+        if (n) domain_.check_interaction_range(2.0 * double(*std::max_element(r.begin(), r.end())) + skin_);
         check_position_resolution();
         const double limit = stable_time_step();
         if (dt_ > limit && !allow_unstable_)
             detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit,
                                       " s of the stiffest contact (lightest particles); use dt <= ", limit,
                                       " (the paper uses t_c/50), or allow_unstable_time_step(true) to run anyway");
-        for (auto& x : particles_.position()) domain_.wrap(x);
+        for (auto& x : particles_.position()) {
+            V wrapped = convert<double>(x);
+            domain_.wrap(wrapped);
+            x = convert<Real>(wrapped);
+        }
         if constexpr (has_walls) {
             for (std::size_t w = 0; w < walls_.size(); ++w) {
                 for (int k = 0; k < dim; ++k)
@@ -192,9 +210,9 @@ public:
                         detail::throw_input_error("wall ", w, " is not parallel to periodic axis ", k,
                                                   "; walls may only bound non-periodic axes");
                 for (std::size_t i = 0; i < n; ++i)
-                    if (!(walls_[w].distance(particles_.position()[i]) > 0.0))
+                    if (!(walls_[w].distance(convert<double>(particles_.position()[i])) > 0.0))
                         detail::throw_input_error("particle ", i, " starts outside wall ", w, " (its centre is ",
-                                                  -walls_[w].distance(particles_.position()[i]),
+                                                  -walls_[w].distance(convert<double>(particles_.position()[i])),
                                                   " m behind the plane); move it inside or move the wall");
             }
         }
@@ -213,13 +231,14 @@ public:
     /// (one unit in the last place): overlaps are differences of coordinates, so this is the
     /// absolute error of every overlap. Relative to an overlap delta the force error is about
     /// position_resolution() / delta (2e-6 for overlaps of 1e-7 m at 1e3 m from the origin in
-    /// double precision; tests/physics/extremes.cpp measures it).
+    /// double precision, 2e-2 at 0.02 m in float; tests/physics/extremes.cpp and precision.cpp
+    /// measure it).
     double position_resolution() const {
         double far = 0.0;
-        for (const auto& x : particles_.position()) far = std::max(far, x.cwiseAbs().maxCoeff());
+        for (const auto& x : particles_.position()) far = std::max(far, double(x.cwiseAbs().maxCoeff()));
         if constexpr (has_walls)
             for (const auto& w : walls_) far = std::max(far, std::abs(w.offset));
-        return far * std::numeric_limits<double>::epsilon();
+        return far * std::numeric_limits<Real>::epsilon();
     }
 
     // ---- running -----------------------------------------------------------------------------
@@ -248,28 +267,31 @@ public:
     /// the particles: the same arithmetic as three passes, with a third of the memory traffic,
     /// which is what limits large packings. Walls move, time advances, lists refresh as needed.
     void kick_drift_kick(double h_before, double dt, double h_after) {
-        V* x = particles_.template get<field::Position>().data();
-        V* v = particles_.template get<field::Velocity>().data();
-        const V* f = particles_.template get<field::Force>().data();
-        const double* inv_m = particles_.template get<field::InverseMass>().data();
-        const V* reference = reference_.data();
+        SV* x = particles_.template get<field::Position>().data();
+        SV* v = particles_.template get<field::Velocity>().data();
+        const SV* f = particles_.template get<field::Force>().data();
+        const Real* inv_m = particles_.template get<field::InverseMass>().data();
+        const SV* reference = reference_.data();
         const std::size_t n = particles_.size();
         double max_move_sq = 0.0;
         MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq) if (active_threads() > 1))
         for (std::size_t i = 0; i < n; ++i) {
-            const V a = inv_m[i] * f[i];
-            v[i] += h_before * a;
-            x[i] += dt * v[i];
-            v[i] += h_after * a;
-            domain_.wrap(x[i]);
-            max_move_sq = std::max(max_move_sq, domain_.separation(x[i], reference[i]).squaredNorm());
+            const V a = double(inv_m[i]) * convert<double>(f[i]);
+            V vi = convert<double>(v[i]) + h_before * a;
+            V xi = convert<double>(x[i]) + dt * vi;
+            vi += h_after * a;
+            domain_.wrap(xi);
+            x[i] = convert<Real>(xi);
+            v[i] = convert<Real>(vi);
+            max_move_sq = std::max(max_move_sq, domain_.separation(convert<double>(x[i]), convert<double>(reference[i])).squaredNorm());
         }
         if constexpr (rotation) {
             auto* w = particles_.template get<field::AngularVelocity>().data();
             const auto* t = particles_.template get<field::Torque>().data();
-            const double* inv_I = particles_.template get<field::InverseInertia>().data();
+            const Real* inv_I = particles_.template get<field::InverseInertia>().data();
             MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-            for (std::size_t i = 0; i < n; ++i) w[i] += (h_before + h_after) * inv_I[i] * t[i];
+            for (std::size_t i = 0; i < n; ++i)
+                w[i] = convert<Real>(A(convert<double>(w[i]) + (h_before + h_after) * double(inv_I[i]) * convert<double>(t[i])));
         }
         if (!std::isfinite(max_move_sq)) report_blow_up();
         double wall_move = 0.0;
@@ -289,13 +311,15 @@ public:
         const auto& f = particles_.template get<field::Force>();
         const auto& inv_m = particles_.template get<field::InverseMass>();
         MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-        for (std::size_t i = 0; i < v.size(); ++i) v[i] += (h * inv_m[i]) * (f[i] - previous_force_[i]);
+        for (std::size_t i = 0; i < v.size(); ++i)
+            v[i] = convert<Real>(V(convert<double>(v[i]) + (h * double(inv_m[i])) * (convert<double>(f[i]) - convert<double>(previous_force_[i]))));
         if constexpr (rotation) {
             auto& w = particles_.template get<field::AngularVelocity>();
             const auto& t = particles_.template get<field::Torque>();
             const auto& inv_I = particles_.template get<field::InverseInertia>();
             MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-            for (std::size_t i = 0; i < w.size(); ++i) w[i] += (h * inv_I[i]) * (t[i] - previous_torque_[i]);
+            for (std::size_t i = 0; i < w.size(); ++i)
+                w[i] = convert<Real>(A(convert<double>(w[i]) + (h * double(inv_I[i])) * (convert<double>(t[i]) - convert<double>(previous_torque_[i]))));
         }
     }
 
@@ -317,11 +341,12 @@ public:
         EnergyState e;
         const auto& v = particles_.velocity();
         for (std::size_t i = 0; i < particles_.size(); ++i)
-            e.kinetic_translational += 0.5 * particles_.mass()[i] * v[i].squaredNorm();
+            e.kinetic_translational += 0.5 * double(particles_.mass()[i]) * convert<double>(v[i]).squaredNorm();
         if constexpr (rotation) {
             const auto& w = particles_.template get<field::AngularVelocity>();
             const auto& I = particles_.template get<field::Inertia>();
-            for (std::size_t i = 0; i < particles_.size(); ++i) e.kinetic_rotational += 0.5 * I[i] * T::squared_norm(w[i]);
+            for (std::size_t i = 0; i < particles_.size(); ++i)
+                e.kinetic_rotational += 0.5 * double(I[i]) * T::squared_norm(convert<double>(w[i]));
         }
         if constexpr (has_walls)
             for (const auto& w : walls_)
@@ -365,19 +390,19 @@ public:
         const auto& r = particles_.radius();
         for (std::size_t c = 0; c < pairs_.size(); ++c) {
             const auto [i, j] = pairs_.pairs()[c];
-            const V d = domain_.separation(x[i], x[j]);
-            const double dist = d.norm();
-            if (!(dist < r[i] + r[j]) || dist == 0.0) continue;
+            const V d = domain_.separation(convert<double>(x[i]), convert<double>(x[j]));
+            const double dist = d.norm(), reach = double(r[i]) + double(r[j]);
+            if (!(dist < reach) || dist == 0.0) continue;
             const V n = d * (1.0 / dist);  // as the force loop computes it
-            f(view(i, j, false, n, r[i] + r[j] - dist, d, relative_velocity(i, j, n), history_of(pairs_, c)));
+            f(view(i, j, false, n, reach - dist, d, relative_velocity(i, j, n), history_of(pairs_, c)));
         }
         if constexpr (has_walls)
             for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
                 const auto [i, w] = wall_contacts_.pairs()[c];
                 const auto& wall = walls_[w];
-                const double s = wall.distance(x[i]);
-                if (!(s < r[i])) continue;
-                f(view(i, w, true, wall.normal, r[i] - s, V(s * wall.normal), wall_relative_velocity(i, wall),
+                const double s = wall.distance(convert<double>(x[i])), a = r[i];
+                if (!(s < a)) continue;
+                f(view(i, w, true, wall.normal, a - s, V(s * wall.normal), wall_relative_velocity(i, wall),
                        history_of(wall_contacts_, c), wall.frictionless));
             }
     }
@@ -398,12 +423,13 @@ public:
             };
             for (std::size_t c = 0; c < pairs_.size(); ++c) {
                 const auto [i, j] = pairs_.pairs()[c];
-                load(pairs_.history(c), domain_.separation(x[i], x[j]));
+                load(pairs_.history(c), domain_.separation(convert<double>(x[i]), convert<double>(x[j])));
             }
             if constexpr (has_walls)
                 for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
                     const auto [i, w] = wall_contacts_.pairs()[c];
-                    if (!walls_[w].frictionless) load(wall_contacts_.history(c), V(walls_[w].distance(x[i]) * walls_[w].normal));
+                    if (!walls_[w].frictionless)
+                        load(wall_contacts_.history(c), V(walls_[w].distance(convert<double>(x[i])) * walls_[w].normal));
                 }
         }
         if constexpr (has_walls) {
@@ -416,8 +442,9 @@ public:
             }
         }
         for (auto& p : x) {
-            p = F * p;
-            deformed.wrap(p);
+            V moved = F * convert<double>(p);
+            deformed.wrap(moved);
+            p = convert<Real>(moved);
         }
         domain_ = deformed;
         rebuild_neighbors();
@@ -464,13 +491,13 @@ public:
     /// references, previous forces), capacities counted: the engine's own memory footprint.
     std::size_t storage_bytes() const {
         std::size_t b = particles_.size() * particles_.bytes_per_particle() + pairs_.bytes() +
-                        reference_.capacity() * sizeof(V);
+                        reference_.capacity() * sizeof(SV);
         if constexpr (has_walls) b += wall_contacts_.bytes();
-        for (const auto& a : thread_force_) b += a.capacity() * sizeof(V);
-        for (const auto& a : thread_torque_) b += a.capacity() * sizeof(A);
+        for (const auto& a : thread_force_) b += a.capacity() * sizeof(SV);
+        for (const auto& a : thread_torque_) b += a.capacity() * sizeof(SA);
         if constexpr (Integrator::keeps_previous_forces) {
-            b += previous_force_.capacity() * sizeof(V);
-            if constexpr (rotation) b += previous_torque_.capacity() * sizeof(A);
+            b += previous_force_.capacity() * sizeof(SV);
+            if constexpr (rotation) b += previous_torque_.capacity() * sizeof(SA);
         }
         return b;
     }
@@ -514,19 +541,19 @@ private:
     // vectors the compiler would reload every array's address after each store to the forces.
     // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
     template <bool track>
-    void pair_forces(std::size_t begin, std::size_t end, V* f, [[maybe_unused]] A* torque, EnergyBooks& books,
+    void pair_forces(std::size_t begin, std::size_t end, SV* f, [[maybe_unused]] SA* torque, EnergyBooks& books,
                      IndexPair& coincident) {
-        const V* x = particles_.position().data();
-        const V* v = particles_.velocity().data();
-        const double* r = particles_.radius().data();
+        const SV* x = particles_.position().data();
+        const SV* v = particles_.velocity().data();
+        const Real* r = particles_.radius().data();
         const IndexPair* pair = pairs_.pairs().data();
         [[maybe_unused]] History* history = nullptr;
         if constexpr (has_tangential) history = pairs_.history_data();
         for (std::size_t c = begin; c < end; ++c) {
             const auto [i, j] = pair[c];
-            const V d = domain_.separation(x[i], x[j]);
+            const V d = domain_.separation(convert<double>(x[i]), convert<double>(x[j]));
             const double dist_sq = d.squaredNorm();
-            const double reach = r[i] + r[j];
+            const double reach = double(r[i]) + double(r[j]);
             if (dist_sq >= reach * reach) {
                 if constexpr (has_tangential) history[c] = History{};  // the contact opened
                 continue;
@@ -537,16 +564,22 @@ private:
             }
             const double dist = std::sqrt(dist_sq);
             const V n = d * (1.0 / dist);
-            const V dv = v[i] - v[j];
+            const V dv = convert<double>(v[i]) - convert<double>(v[j]);
             History* h = nullptr;
             if constexpr (has_tangential) h = history + c;
             const Response resp = respond<track>(n, reach - dist, n.dot(dv), relative_velocity(i, j, n, dv), h, books);
-            f[i] += resp.force;
-            f[j] -= resp.force;
+            if constexpr (std::is_same_v<Real, double>) {
+                f[i] += resp.force;
+                f[j] -= resp.force;
+            } else {
+                const SV stored = convert<Real>(resp.force);
+                f[i] += stored;
+                f[j] -= stored;
+            }
             if constexpr (rotation) {
                 const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
-                torque[i] -= r[i] * arm;
-                torque[j] -= r[j] * arm;
+                torque[i] -= convert<Real>(A(double(r[i]) * arm));
+                torque[j] -= convert<Real>(A(double(r[j]) * arm));
             }
         }
     }
@@ -556,8 +589,8 @@ private:
     // share of the particles over the threads in thread order and clears the thread arrays.
     template <bool track>
     void pair_forces() {
-        V* f = particles_.template get<field::Force>().data();
-        A* torque = nullptr;
+        SV* f = particles_.template get<field::Force>().data();
+        SA* torque = nullptr;
         if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
         const std::size_t count = pairs_.size(), n = particles_.size();
         const int shares = active_threads();
@@ -567,31 +600,31 @@ private:
             pair_forces<track>(0, count, f, torque, thread_books_[0], coincident_[0]);
         } else {
             thread_force_.resize(shares - 1);
-            for (auto& a : thread_force_) a.resize(n, V::Zero());  // kept zero between calls
+            for (auto& a : thread_force_) a.resize(n, SV::Zero());  // kept zero between calls
             if constexpr (rotation) {
                 thread_torque_.resize(shares - 1);
-                for (auto& a : thread_torque_) a.resize(n, T::zero_angular());
+                for (auto& a : thread_torque_) a.resize(n, zero_stored_angular());
             }
             MICROMACRO_OMP(omp parallel num_threads(shares)) {
                 const int t = detail::thread_number();
-                V* own_f = t == 0 ? f : thread_force_[t - 1].data();
-                A* own_torque = nullptr;
+                SV* own_f = t == 0 ? f : thread_force_[t - 1].data();
+                SA* own_torque = nullptr;
                 if constexpr (rotation) own_torque = t == 0 ? torque : thread_torque_[t - 1].data();
                 pair_forces<track>(detail::share_begin(count, t, shares), detail::share_begin(count, t + 1, shares),
                                    own_f, own_torque, thread_books_[t], coincident_[t]);
                 MICROMACRO_OMP(omp barrier)
                 const std::size_t i0 = detail::share_begin(n, t, shares), i1 = detail::share_begin(n, t + 1, shares);
                 for (int u = 1; u < shares; ++u) {
-                    V* other = thread_force_[u - 1].data();
+                    SV* other = thread_force_[u - 1].data();
                     for (std::size_t i = i0; i < i1; ++i) {
                         f[i] += other[i];
-                        other[i] = V::Zero();
+                        other[i] = SV::Zero();
                     }
                     if constexpr (rotation) {
-                        A* other_torque = thread_torque_[u - 1].data();
+                        SA* other_torque = thread_torque_[u - 1].data();
                         for (std::size_t i = i0; i < i1; ++i) {
                             torque[i] += other_torque[i];
-                            other_torque[i] = T::zero_angular();
+                            other_torque[i] = zero_stored_angular();
                         }
                     }
                 }
@@ -608,27 +641,27 @@ private:
         auto& f = particles_.template get<field::Force>();
         const auto& x = particles_.position();
         const auto& r = particles_.radius();
-        f.assign(particles_.size(), V::Zero());
-        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), T::zero_angular());
+        f.assign(particles_.size(), SV::Zero());
+        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_stored_angular());
         pair_forces<track>();
         if constexpr (has_walls) {
             for (auto& wall : walls_) wall.force = V::Zero();
             for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
                 const auto [i, w] = wall_contacts_.pairs()[c];
                 auto& wall = walls_[w];
-                const double s = wall.distance(x[i]);
-                if (s >= r[i]) {
+                const double s = wall.distance(convert<double>(x[i])), a = r[i];
+                if (s >= a) {
                     if constexpr (has_tangential) wall_contacts_.history(c) = History{};
                     continue;
                 }
                 const V& n = wall.normal;
                 const V vr = wall_relative_velocity(i, wall);
-                const Response resp = respond<track>(n, r[i] - s, n.dot(vr), vr, history_of(wall_contacts_, c),
+                const Response resp = respond<track>(n, a - s, n.dot(vr), vr, history_of(wall_contacts_, c),
                                                      step_books_, wall.frictionless);
-                f[i] += resp.force;
+                f[i] += convert<Real>(resp.force);
                 wall.force -= resp.force;
                 if constexpr (rotation)
-                    particles_.template get<field::Torque>()[i] -= r[i] * T::cross(n, resp.tangential);
+                    particles_.template get<field::Torque>()[i] -= convert<Real>(A(a * T::cross(n, resp.tangential)));
             }
         }
         std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, step_books_, dt_), ...); }, body_forces_);
@@ -681,19 +714,20 @@ private:
         if constexpr (rotation) {
             const auto& w = particles_.template get<field::AngularVelocity>();
             const auto& r = particles_.radius();
-            return dv + T::cross(n, A(r[i] * w[i] + r[j] * w[j]));
+            return dv + T::cross(n, A(double(r[i]) * convert<double>(w[i]) + double(r[j]) * convert<double>(w[j])));
         } else {
             return dv;
         }
     }
     V relative_velocity(Index i, Index j, const V& n) const {
-        return relative_velocity(i, j, n, V(particles_.velocity()[i] - particles_.velocity()[j]));
+        return relative_velocity(i, j, n, V(convert<double>(particles_.velocity()[i]) - convert<double>(particles_.velocity()[j])));
     }
     template <class W>
     V wall_relative_velocity(Index i, const W& wall) const {
-        V vr = particles_.velocity()[i] - wall.speed * wall.normal;
+        V vr = convert<double>(particles_.velocity()[i]) - wall.speed * wall.normal;
         if constexpr (rotation)
-            vr += T::cross(wall.normal, A(particles_.radius()[i] * particles_.template get<field::AngularVelocity>()[i]));
+            vr += T::cross(wall.normal, A(double(particles_.radius()[i]) *
+                                          convert<double>(particles_.template get<field::AngularVelocity>()[i])));
         return vr;
     }
 
@@ -738,7 +772,7 @@ private:
             wn.clear();
             for (Index i = 0; i < x.size(); ++i)
                 for (Index w = 0; w < walls_.size(); ++w)
-                    if (walls_[w].distance(x[i]) < r[i] + skin_) wn.push_back({i, w});
+                    if (walls_[w].distance(convert<double>(x[i])) < double(r[i]) + skin_) wn.push_back({i, w});
             wall_contacts_.commit_scratch();
             wall_reference_.resize(walls_.size());
             for (std::size_t w = 0; w < walls_.size(); ++w) wall_reference_[w] = walls_[w].offset;
@@ -754,24 +788,31 @@ private:
     [[noreturn]] void report_blow_up() const {
         const auto& x = particles_.position();
         std::size_t bad = 0;  // the first particle whose displacement overflowed or is NaN
-        while (bad + 1 < x.size() && std::isfinite(domain_.separation(x[bad], reference_[bad]).squaredNorm())) ++bad;
+        while (bad + 1 < x.size() &&
+               std::isfinite(domain_.separation(convert<double>(x[bad]), convert<double>(reference_[bad])).squaredNorm()))
+            ++bad;
         throw SimulationError(detail::concat(
             "the simulation blew up at step ", steps_ + 1, " (t = ", time_, " s): particle ", bad,
             " reached position component ", x[bad][0], ". The time step dt = ", dt_,
             " s against the stability limit ", stable_time_step(), " s is the usual cause; reduce dt"));
     }
 
-    /// Refuses a scene whose coordinates are so far from the origin that overlaps of 1e-4 of the
-    /// smallest radius (the paper's are 2e-4 of the mean) cannot be resolved to 1%.
+    /// Refuses a scene whose stored coordinates cannot resolve overlaps of 1e-4 of the smallest
+    /// radius (the paper's are 2e-4 of the mean) to 1%: too far from the origin, or float storage
+    /// for most packings, unless allow_coarse_positions(true).
     void check_position_resolution() const {
-        if (particles_.empty()) return;
+        if (particles_.empty() || allow_coarse_positions_) return;
         const auto& r = particles_.radius();
         const double smallest = *std::min_element(r.begin(), r.end());
         const double resolution = position_resolution();
         if (resolution > 1e-6 * smallest)
-            detail::throw_input_error("coordinates up to ", resolution / std::numeric_limits<double>::epsilon(),
-                                      " m from the origin are resolved to ", resolution, " m, more than 1e-6 of the smallest radius ",
-                                      smallest, " m: overlaps would lose their digits; move the origin into the packing");
+            detail::throw_input_error("coordinates up to ", resolution / std::numeric_limits<Real>::epsilon(),
+                                      " m from the origin are resolved to ", resolution, " m in ",
+                                      std::is_same_v<Real, float> ? "float" : "double",
+                                      ", more than 1e-6 of the smallest radius ", smallest,
+                                      " m: overlaps would lose their digits; move the origin into the packing",
+                                      std::is_same_v<Real, float> ? ", store in double" : "",
+                                      ", or call allow_coarse_positions(true) to accept it");
     }
 
     Law law_;
@@ -783,16 +824,16 @@ private:
     ParticleSet particles_;
     ContactList<History> pairs_;
     [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
-    std::vector<V> reference_;
+    std::vector<SV> reference_;
     // Per-thread scratch of pair_forces() (threads 1..: force and torque arrays, kept zero).
     int threads_ = 1;
-    std::vector<std::vector<V>> thread_force_;
-    std::vector<std::vector<A>> thread_torque_;
+    std::vector<std::vector<SV>> thread_force_;
+    std::vector<std::vector<SA>> thread_torque_;
     std::vector<EnergyBooks> thread_books_;
     std::vector<IndexPair> coincident_;
     // Forces of the previous evaluation, for integrators that correct with the force change.
-    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<V>, NoHistory> previous_force_;
-    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<A>, NoHistory>
+    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<SV>, NoHistory> previous_force_;
+    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<SA>, NoHistory>
         previous_torque_;
     std::vector<double> wall_reference_;
     EnergyBooks books_, step_books_, previous_step_books_;
@@ -803,7 +844,17 @@ private:
     double initial_energy_ = 0.0;
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
     std::size_t steps_ = 0, rebuilds_ = 0;
-    bool prepared_ = false, allow_unstable_ = false, track_energy_ = true;
+    bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
+
+    static SA zero_stored_angular() {
+        if constexpr (dim == 2) return Real(0);
+        else return SA::Zero();
+    }
 };
+
+/// The engine in double precision (the usual choice; see BasicSimulation for float storage).
+template <int dim, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet, class Neighbors = LinkedCells,
+          class... BodyForces>
+using Simulation = BasicSimulation<dim, double, Law, Boundary, Integrator, Neighbors, BodyForces...>;
 
 }  // namespace micromacro

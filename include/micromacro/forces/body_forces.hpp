@@ -21,21 +21,23 @@ struct BackgroundDamping {
         detail::require_non_negative(gamma_r, "rotational background damping gamma_r", "use 0 to switch it off");
     }
 
-    template <bool track_energy, int dim, bool rot>
-    void apply(Particles<dim, rot>& p, EnergyBooks& books, double dt) const {
+    template <bool track_energy, int dim, bool rot, class Real>
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt) const {
         auto& f = p.template get<field::Force>();
         const auto& v = p.template get<field::Velocity>();
+        const Real gamma_b = static_cast<Real>(translational), gamma_r = static_cast<Real>(rotational);
         double dissipated = 0.0;
         for (std::size_t i = 0; i < p.size(); ++i) {
-            f[i] -= translational * v[i];
-            if constexpr (track_energy) dissipated += translational * v[i].squaredNorm() * dt;
+            f[i] -= gamma_b * v[i];
+            if constexpr (track_energy) dissipated += translational * convert<double>(v[i]).squaredNorm() * dt;
         }
         if constexpr (rot) {
             auto& t = p.template get<field::Torque>();
             const auto& w = p.template get<field::AngularVelocity>();
             for (std::size_t i = 0; i < p.size(); ++i) {
-                t[i] -= rotational * w[i];
-                if constexpr (track_energy) dissipated += rotational * DimTraits<dim>::squared_norm(w[i]) * dt;
+                t[i] -= gamma_r * w[i];
+                if constexpr (track_energy)
+                    dissipated += rotational * DimTraits<dim>::squared_norm(convert<double>(w[i])) * dt;
             }
         }
         if constexpr (track_energy) books.dissipated_background += dissipated;
@@ -47,16 +49,17 @@ template <int dim>
 struct Gravity {
     Vec<dim> g = Vec<dim>::Zero();
 
-    template <bool track_energy, bool rot>
-    void apply(Particles<dim, rot>& p, EnergyBooks&, double) const {
+    template <bool track_energy, bool rot, class Real>
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks&, double) const {
         auto& f = p.template get<field::Force>();
         const auto& m = p.template get<field::Mass>();
-        for (std::size_t i = 0; i < p.size(); ++i) f[i] += m[i] * g;
+        const Vec<dim, Real> stored_g = convert<Real>(g);
+        for (std::size_t i = 0; i < p.size(); ++i) f[i] += m[i] * stored_g;
     }
-    template <bool rot>
-    double potential_energy(const Particles<dim, rot>& p) const {
+    template <bool rot, class Real>
+    double potential_energy(const Particles<dim, rot, Real>& p) const {
         double u = 0.0;
-        for (std::size_t i = 0; i < p.size(); ++i) u -= p.mass()[i] * g.dot(p.position()[i]);
+        for (std::size_t i = 0; i < p.size(); ++i) u -= double(p.mass()[i]) * g.dot(convert<double>(p.position()[i]));
         return u;
     }
 };

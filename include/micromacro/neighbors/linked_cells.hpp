@@ -16,12 +16,12 @@ namespace micromacro {
 
 class LinkedCells {
 public:
-    template <int dim>
-    void find_pairs(const std::vector<Vec<dim>>& x, const std::vector<double>& r, const Domain<dim>& domain,
+    template <int dim, class Real>
+    void find_pairs(const std::vector<Vec<dim, Real>>& x, const std::vector<Real>& r, const Domain<dim>& domain,
                     double skin, std::vector<IndexPair>& out) {
         const auto n = static_cast<Index>(x.size());
         if (n < 2) return;
-        const double range = 2.0 * *std::max_element(r.begin(), r.end()) + skin;
+        const double range = 2.0 * double(*std::max_element(r.begin(), r.end())) + skin;
 
         // Grid: the periodic box on periodic axes, the particles' bounding box elsewhere.
         std::array<double, dim> lo{}, extent{}, size{};
@@ -35,8 +35,8 @@ public:
             } else {
                 a = b = x[0][k];
                 for (const auto& p : x) {
-                    a = std::min(a, p[k]);
-                    b = std::max(b, p[k]);
+                    a = std::min(a, double(p[k]));
+                    b = std::max(b, double(p[k]));
                 }
             }
             lo[k] = a;
@@ -92,8 +92,9 @@ public:
                 for (Index s = cell_start_[neighbours[q]]; s < cell_start_[neighbours[q] + 1]; ++s) {
                     const Index j = sorted_[s];
                     if (j <= i) continue;
-                    const double reach = r[i] + r[j] + skin;
-                    if (domain.separation(x[i], x[j]).squaredNorm() < reach * reach) partners.push_back(j);
+                    const double reach = double(r[i]) + double(r[j]) + skin;
+                    if (domain.separation(convert<double>(x[i]), convert<double>(x[j])).squaredNorm() < reach * reach)
+                        partners.push_back(j);
                 }
             std::sort(partners.begin(), partners.end());
             for (Index j : partners) out.push_back({i, j});
@@ -103,12 +104,12 @@ public:
 private:
     static constexpr int ipow3(int d) { return d == 2 ? 9 : 27; }
 
-    template <int dim>
-    static std::array<int, dim> coords(const Vec<dim>& p, const std::array<double, dim>& lo,
+    template <int dim, class Real>
+    static std::array<int, dim> coords(const Vec<dim, Real>& p, const std::array<double, dim>& lo,
                                        const std::array<double, dim>& size, const std::array<int, dim>& cells) {
         std::array<int, dim> c{};
         for (int k = 0; k < dim; ++k)
-            c[k] = std::clamp(static_cast<int>(std::floor((p[k] - lo[k]) / size[k])), 0, cells[k] - 1);
+            c[k] = std::clamp(static_cast<int>(std::floor((double(p[k]) - lo[k]) / size[k])), 0, cells[k] - 1);
         return c;
     }
 

@@ -42,11 +42,15 @@ template <bool present, class T>
 using MaybeVector = std::conditional_t<present, std::vector<T>, Absent>;
 }  // namespace detail
 
-template <int dim, bool with_rotation>
+/// `Real` is the storage precision of every field (float halves the memory and its traffic;
+/// positions then resolve only ~6e-8 of their magnitude, see BasicSimulation). Values go in and
+/// out of add() in double.
+template <int dim, bool with_rotation, class Real = double>
 class Particles {
 public:
-    using V = Vec<dim>;
-    using A = Angular<dim>;
+    using V = Vec<dim, Real>;
+    using A = Angular<dim, Real>;
+    using Scalar = Real;
     static constexpr bool has_rotation = with_rotation;
 
     std::size_t size() const { return position_.size(); }
@@ -54,7 +58,7 @@ public:
 
     /// Adds a particle at rest and returns its index. With rotation, `inertia` <= 0 selects the
     /// sphere value 2/5 m a^2.
-    std::size_t add(const V& position, double radius, double mass, double inertia = 0.0) {
+    std::size_t add(const Vec<dim>& position, double radius, double mass, double inertia = 0.0) {
         const std::size_t i = size();
         for (int k = 0; k < dim; ++k)
             if (!std::isfinite(position[k]))
@@ -65,20 +69,20 @@ public:
                                       " is invalid: it must be finite and > 0");
         if (!(mass > 0.0) || !std::isfinite(mass))
             detail::throw_input_error("particle ", i, ": mass = ", mass, " is invalid: it must be finite and > 0");
-        position_.push_back(position);
+        position_.push_back(convert<Real>(position));
         velocity_.push_back(V::Zero());
         force_.push_back(V::Zero());
-        radius_.push_back(radius);
-        mass_.push_back(mass);
-        inverse_mass_.push_back(1.0 / mass);
+        radius_.push_back(static_cast<Real>(radius));
+        mass_.push_back(static_cast<Real>(mass));
+        inverse_mass_.push_back(static_cast<Real>(1.0 / mass));
         if constexpr (with_rotation) {
             if (inertia <= 0.0) inertia = sphere_inertia(mass, radius);
             if (!std::isfinite(inertia))
                 detail::throw_input_error("particle ", i, ": moment of inertia = ", inertia, " is not finite");
-            angular_velocity_.push_back(DimTraits<dim>::zero_angular());
-            torque_.push_back(DimTraits<dim>::zero_angular());
-            inertia_.push_back(inertia);
-            inverse_inertia_.push_back(1.0 / inertia);
+            angular_velocity_.push_back(zero_angular());
+            torque_.push_back(zero_angular());
+            inertia_.push_back(static_cast<Real>(inertia));
+            inverse_inertia_.push_back(static_cast<Real>(1.0 / inertia));
         }
         return i;
     }
@@ -94,20 +98,20 @@ public:
     std::vector<V>& velocity() { return velocity_; }
     const std::vector<V>& velocity() const { return velocity_; }
     const std::vector<V>& force() const { return force_; }
-    const std::vector<double>& radius() const { return radius_; }
-    const std::vector<double>& mass() const { return mass_; }
+    const std::vector<Real>& radius() const { return radius_; }
+    const std::vector<Real>& mass() const { return mass_; }
 
     /// Changes a particle's mass (keeps the inverse consistent).
     void set_mass(std::size_t i, double mass) {
         detail::require_positive(mass, "mass", "give every particle a positive mass");
-        mass_[i] = mass;
-        inverse_mass_[i] = 1.0 / mass;
+        mass_[i] = static_cast<Real>(mass);
+        inverse_mass_[i] = static_cast<Real>(1.0 / mass);
     }
 
     /// Bytes of particle storage per particle (capacity, all fields).
     std::size_t bytes_per_particle() const {
-        std::size_t b = 3 * sizeof(V) + 3 * sizeof(double);
-        if constexpr (with_rotation) b += 2 * sizeof(A) + 2 * sizeof(double);
+        std::size_t b = 3 * sizeof(V) + 3 * sizeof(Real);
+        if constexpr (with_rotation) b += 2 * sizeof(A) + 2 * sizeof(Real);
         return b;
     }
 
@@ -129,6 +133,11 @@ public:
     }
 
 private:
+    static A zero_angular() {
+        if constexpr (dim == 2) return Real(0);
+        else return A::Zero();
+    }
+
     template <class Field, class Self>
     static auto& select(Self& self) {
         if constexpr (std::is_same_v<Field, field::Position>) return self.position_;
@@ -150,9 +159,9 @@ private:
     }
 
     std::vector<V> position_, velocity_, force_;
-    std::vector<double> radius_, mass_, inverse_mass_;
+    std::vector<Real> radius_, mass_, inverse_mass_;
     [[no_unique_address]] detail::MaybeVector<with_rotation, A> angular_velocity_, torque_;
-    [[no_unique_address]] detail::MaybeVector<with_rotation, double> inertia_, inverse_inertia_;
+    [[no_unique_address]] detail::MaybeVector<with_rotation, Real> inertia_, inverse_inertia_;
 };
 
 }  // namespace micromacro
