@@ -52,7 +52,7 @@ struct CollisionRow {
     double e_error_mean, tc_error_mean, e_error_small, tc_error_small;
 };
 
-template <class Integrator>
+template <class Integrator, class Real = double>
 CollisionRow collision_row(const biaxial::Config& c, const std::string& base, double fraction) {
     const mm::LinearSpringDashpot law(c.k, c.gamma0);
     const double m_mean = c.mean_mass(), m_small = mm::sphere_mass(c.density, c.radius_min);
@@ -65,7 +65,7 @@ CollisionRow collision_row(const biaxial::Config& c, const std::string& base, do
         const double e = mm::restitution(c.k, c.gamma0, m / 2), tc = mm::contact_duration(c.k, c.gamma0, m / 2);
         std::pair<double, double> worst{0.0, 0.0};
         for (int phase = 1; phase <= 16; ++phase) {
-            const auto measured = mm::measure_normal_collision<2, Integrator>(law, m, a, m, a, 0.1, dt, phase / 16.0);
+            const auto measured = mm::measure_normal_collision<2, Integrator, Real>(law, m, a, m, a, 0.1, dt, phase / 16.0);
             worst.first = std::max(worst.first, std::abs(measured.restitution / e - 1));
             worst.second = std::max(worst.second, std::abs(measured.contact_duration / tc - 1));
         }
@@ -73,7 +73,8 @@ CollisionRow collision_row(const biaxial::Config& c, const std::string& base, do
     };
     const auto [em, tm] = error(m_mean, c.mean_radius());
     const auto [es, ts] = error(m_small, c.radius_min);
-    return {base, fraction, Integrator::name, tc_small / dt, em, tm, es, ts};
+    return {base, fraction, std::string(Integrator::name) + (std::is_same_v<Real, float> ? ", float" : ""), tc_small / dt,
+            em, tm, es, ts};
 }
 
 // ---- the biaxial test -----------------------------------------------------------------------
@@ -91,14 +92,15 @@ struct Variant {
     biaxial::Config config;
     bool symplectic_euler = false;
     unsigned long long first_seed = 1;
+    bool single_precision = false;  // float storage (arithmetic stays double)
 };
 
 // Runs the preparation and the loading; the peak quantities are taken from rows smoothed over
 // five output intervals (one row of a few hundred particles fluctuates by several percent).
-template <class Integrator>
+template <class Integrator, class Real = double>
 Outcome run_biaxial(const biaxial::Config& c) {
     const auto t0 = std::chrono::steady_clock::now();
-    biaxial::Experiment<2, Integrator> exp(c);
+    biaxial::Experiment<2, Integrator, Real> exp(c);
     exp.build();
     exp.prepare();
     exp.start_loading();
@@ -154,7 +156,9 @@ Outcome run_variant(const Variant& v, int seeds, unsigned long long first_seed) 
         c.seed = first_seed + static_cast<unsigned long long>(k);
         Outcome o;
         try {
-            o = v.symplectic_euler ? run_biaxial<mm::SymplecticEuler>(c) : run_biaxial<mm::VelocityVerlet>(c);
+            o = v.single_precision   ? run_biaxial<mm::VelocityVerlet, float>(c)
+                : v.symplectic_euler ? run_biaxial<mm::SymplecticEuler>(c)
+                                     : run_biaxial<mm::VelocityVerlet>(c);
         } catch (const std::exception& e) {
             mean.failure = "seed " + std::to_string(c.seed) + ": " + e.what();
             return mean;
@@ -309,6 +313,7 @@ int main(int argc, char** argv) {
             for (double f : fractions) {
                 collisions.push_back(collision_row<mm::VelocityVerlet>(base, b, f));
                 collisions.push_back(collision_row<mm::SymplecticEuler>(base, b, f));
+                collisions.push_back(collision_row<mm::VelocityVerlet, float>(base, b, f));
             }
         say("collisions done");
 
@@ -332,6 +337,9 @@ int main(int argc, char** argv) {
                                     with([&](auto& c) { c.dt_fraction = f / small_over_mean; })});
         variants.push_back({"integrator", "symplectic Euler, t_c(mean)/50", base, true});
         if (!tiny) variants.push_back({"integrator", "symplectic Euler, t_c(mean)/100", with([&](auto& c) { c.dt_fraction = 100; }), true});
+        variants.push_back({"precision", "float storage, t_c(mean)/50", base, false, 1, true});
+        if (!tiny)
+            variants.push_back({"precision", "float storage, t_c(mean)/200", with([&](auto& c) { c.dt_fraction = 200; }), false, 1, true});
         for (double factor : {0.5, 2.0, 4.0})
             if (!(tiny && factor > 2))
                 variants.push_back({"loading period", format("T = %g s", factor * base.period),
@@ -392,7 +400,8 @@ int main(int argc, char** argv) {
            << "output intervals, during the motion; in brackets the relative error against the reference (the strain at the "
            << "peak: absolute difference). Wall gap: mean over the motion of |sigma_wall_22 / sigma_22 - 1| (wall stress "
            << "against the inner box's contact stress). Residual: the energy books' residual at the end (relative to the "
-           << "work put in). Float precision is not available yet: the engine is double only (issue 6).\n\n"
+           << "work put in). Float: the particle state stored in float, every force computed in double "
+           << "(`BasicSimulation<dim, float, ...>`); positions of a 3.5 cm box then resolve 2e-9 m against overlaps of ~4e-7 m.\n\n"
            << "| group | setting | seconds | particle-steps | peak stress ratio | eps_zz at peak | max deviatoric fabric | "
               "C_n_2222 at peak (N/m) | wall gap | residual |\n"
            << "|---|---|---|---|---|---|---|---|---|---|\n";
@@ -425,11 +434,15 @@ int main(int argc, char** argv) {
         write_atomically(fs::path(out_dir) / "speed-accuracy.md", md.str());
 
         // ---- the plot ----------------------------------------------------------------------
-        std::vector<Series> left{{"velocity Verlet", "#1f77b4", {}}, {"symplectic Euler", "#d62728", {}}};
-        for (const auto& r : collisions)
-            if (r.base == "smallest pair")
-                left[r.integrator == std::string(mm::VelocityVerlet::name) ? 0 : 1].points.emplace_back(r.steps_per_contact,
-                                                                                                 r.e_error_small);
+        std::vector<Series> left{{"velocity Verlet", "#1f77b4", {}}, {"symplectic Euler", "#d62728", {}},
+                                 {"velocity Verlet, float storage", "#9467bd", {}}};
+        for (const auto& r : collisions) {
+            if (r.base != "smallest pair") continue;
+            const std::size_t series = r.integrator.find("float") != std::string::npos ? 2
+                                       : r.integrator == mm::SymplecticEuler::name  ? 1
+                                                                                    : 0;
+            left[series].points.emplace_back(r.steps_per_contact, r.e_error_small);
+        }
         std::vector<Series> right{{"time step, velocity Verlet", "#1f77b4", {}}, {"loading period T", "#2ca02c", {}}};
         double floor_error = 0;
         for (std::size_t i = 1; i < variants.size(); ++i) {

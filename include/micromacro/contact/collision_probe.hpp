@@ -19,15 +19,17 @@ struct CollisionMeasurement {
 /// Head-on collision of particles (m1, a1) and (m2, a2) approaching at relative speed v with time
 /// step dt, in dimension dim, integrated by `Integrator`. No friction, no background damping.
 /// The contact begins `entry_phase` (0..1) of a step before the fourth step ends: at coarse steps
-/// the result depends on it (tests/physics/extremes.cpp derives by how much).
-template <int dim, class Integrator = VelocityVerlet>
+/// the result depends on it (tests/physics/extremes.cpp derives by how much). `Real` is the
+/// storage precision (see BasicSimulation; float is accepted however coarse).
+template <int dim, class Integrator = VelocityVerlet, class Real = double>
 CollisionMeasurement measure_normal_collision(const LinearSpringDashpot& law, double m1, double a1, double m2,
                                               double a2, double v, double dt, double entry_phase = 0.5) {
     detail::require_positive(v, "approach speed", "the particles must approach");
     if (!(entry_phase > 0.0 && entry_phase <= 1.0))
         detail::throw_input_error("entry phase ", entry_phase, " is outside (0, 1]; it is the fraction of a step in contact");
     using Law = ContactLaw<LinearSpringDashpot>;
-    Simulation<dim, Law, NoWalls, Integrator, BruteForce> sim(Law{law});
+    BasicSimulation<dim, Real, Law, NoWalls, Integrator, BruteForce> sim(Law{law});
+    sim.allow_coarse_positions(true);
     sim.set_time_step(dt);
     Vec<dim> gap = Vec<dim>::Zero();
     gap[0] = a1 + a2 + (4.0 - entry_phase) * v * dt;  // contact begins between steps 3 and 4
@@ -37,7 +39,7 @@ CollisionMeasurement measure_normal_collision(const LinearSpringDashpot& law, do
     p.velocity()[0][0] = v * m2 / (m1 + m2);
     p.velocity()[1][0] = -v * m1 / (m1 + m2);
     sim.set_skin(0.5 * std::min(a1, a2));
-    auto overlap = [&] { return a1 + a2 - (p.position()[1] - p.position()[0]).norm(); };
+    auto overlap = [&] { return a1 + a2 - (convert<double>(p.position()[1]) - convert<double>(p.position()[0])).norm(); };
 
     const double tc_guess = contact_duration(law.stiffness(), law.damping(), reduced_mass(m1, m2));
     const auto max_steps = static_cast<std::size_t>(20.0 * tc_guess / dt) + 100;
@@ -54,7 +56,7 @@ CollisionMeasurement measure_normal_collision(const LinearSpringDashpot& law, do
     if (end < 0.0)
         throw SimulationError("measure_normal_collision: the particles did not separate within 20 contact durations");
     sim.step();  // leave the contact completely
-    const double v_after = (p.velocity()[1] - p.velocity()[0]).dot(Vec<dim>::UnitX());
+    const double v_after = convert<double>(p.velocity()[1])[0] - convert<double>(p.velocity()[0])[0];
     return {end - start, v_after / v, sim.steps_done()};
 }
 

@@ -4,6 +4,7 @@
 #include <concepts>
 
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/inline.hpp"
 
 namespace micromacro {
 
@@ -31,7 +32,7 @@ public:
         detail::require_positive(k, "normal stiffness k", "give the spring constant in N/m");
         detail::require_non_negative(gamma0, "normal damping gamma_0", "use 0 for an elastic contact");
     }
-    NormalForce force(double overlap, double normal_velocity) const {
+    MICROMACRO_INLINE NormalForce force(double overlap, double normal_velocity) const {
         return {k_ * overlap, -gamma0_ * normal_velocity};
     }
     double elastic_energy(double overlap) const { return 0.5 * k_ * overlap * overlap; }

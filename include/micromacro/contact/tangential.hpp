@@ -8,6 +8,7 @@
 
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/inline.hpp"
 
 namespace micromacro {
 
@@ -74,7 +75,7 @@ public:
     /// active only while f_n > 0, otherwise the Coulomb limit is zero and the spring resets.
     /// The spring in `h` is updated for the next step.
     template <int dim, bool track_energy>
-    TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force,
+    MICROMACRO_INLINE TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force,
                                double dt, History<dim>& h) const {
         using V = Vec<dim>;
         TangentialForce<dim> out;

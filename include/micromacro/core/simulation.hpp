@@ -20,6 +20,7 @@
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/inline.hpp"
 #include "micromacro/core/parallel.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
@@ -518,7 +519,7 @@ private:
     // The physics of one contact, shared by particle pairs and wall contacts. What it dissipates
     // goes to `books` (a local copy in the pair loop, so the sums stay in registers).
     template <bool track>
-    Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h,
+    MICROMACRO_INLINE Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h,
                      EnergyBooks& books, bool smooth = false) const {
         const NormalForce fn = law_.normal.force(overlap, normal_velocity);
         if constexpr (track) books.dissipated_normal -= fn.viscous * normal_velocity * dt_;
