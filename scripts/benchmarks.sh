@@ -22,7 +22,9 @@ row() {  # dim particles law threads [extra]
   contacts=$(echo "$first" | grep -o '"contacts": [0-9]*' | awk '{print $2}')
   eng=$(echo "$first" | grep -o '"storage_bytes_per_particle": [0-9.]*' | awk '{print $2}')
   rss=$(echo "$first" | grep -o '"bytes_per_particle": [0-9.]*' | awk '{print $2}')
-  printf '| %dD %s%s | %d | %.2f | %d | %.3g | %.1f | %.0f | %.0f |\n' "$dim" "$law" "${extra:+ (shear)}" "$n" \
+  local label=""
+  case "$extra" in *shear*) label=" (shear)" ;; *float*) label=", float storage" ;; esac
+  printf '| %dD %s%s | %d | %.2f | %d | %.3g | %.1f | %.0f | %.0f |\n' "$dim" "$law" "$label" "$n" \
     "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$pps" "$ns" "$eng" "$rss"
 }
 row 2 1950 frictionless 1
@@ -33,6 +35,8 @@ row 2 20000 frictional 2
 row 2 200000 frictionless 1
 row 2 200000 frictional 1
 row 2 200000 frictional 2
+row 2 200000 frictional 1 "--precision float"
 row 3 12500 frictional 1
 row 3 100000 frictional 1
 row 3 100000 frictional 2
+row 3 100000 frictional 1 "--precision float"

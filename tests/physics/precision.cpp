@@ -8,6 +8,7 @@
 
 #include <cmath>
 #include <limits>
+#include <filesystem>
 #include <random>
 
 #include "support/expect_error.hpp"
@@ -83,4 +84,21 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(float_halves_the_particles_memory, D, Dims) {
     const auto exact = lattice<D::value, double>(false);
     const auto coarse = lattice<D::value, float>(true);
     BOOST_TEST(2 * coarse.particles().bytes_per_particle() == exact.particles().bytes_per_particle());
+}
+
+// A float scene saves and restores like a double one: the restored run continues bit for bit,
+// and a double scene refuses the float file (another scene type).
+BOOST_AUTO_TEST_CASE_TEMPLATE(float_state_round_trip, D, Dims) {
+    const auto file = std::filesystem::temp_directory_path() / ("micromacro_float_state_" + std::to_string(D::value) + "d.bin");
+    auto original = lattice<D::value, float>(true);
+    original.run(10);
+    mm::io::save_state(original, file);
+    auto restored = lattice<D::value, float>(true);
+    mm::io::load_state(restored, file);
+    original.run(10);
+    restored.run(10);
+    BOOST_TEST(original.particles().position() == restored.particles().position());
+    auto other = lattice<D::value, double>(false);
+    expect_error([&] { mm::io::load_state(other, file); }, {"holds a different scene", "real=32bit", "real=64bit"});
+    std::filesystem::remove(file);
 }

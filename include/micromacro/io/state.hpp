@@ -70,11 +70,12 @@ private:
     std::string path_;
 };
 
-/// A signature of the scene's storage: dimension, size of the simulation object and of its
-/// contact history. A state saved by a different scene type is refused.
+/// A signature of the scene's storage: dimension, storage precision, size of the simulation
+/// object and of its contact history. A state saved by a different scene type is refused.
 template <class Sim>
 std::string signature() {
-    return "dim=" + std::to_string(Sim::dimension) + " rotation=" + std::to_string(Sim::rotation) +
+    return "dim=" + std::to_string(Sim::dimension) + " real=" + std::to_string(8 * sizeof(typename Sim::Scalar)) + "bit" +
+           " rotation=" + std::to_string(Sim::rotation) +
            " walls=" + std::to_string(Sim::has_walls) + " history=" + std::to_string(sizeof(typename Sim::History)) +
            " object=" + std::to_string(sizeof(Sim));
 }
