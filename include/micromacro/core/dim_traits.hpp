@@ -31,7 +31,6 @@ struct DimTraits<2> {
     /// "Volume" of a particle of radius a: in 2D its area, as the paper's averages use.
     static double particle_volume(double a) { return std::numbers::pi * a * a; }
 
-    static Angular zero_angular() { return 0.0; }
     /// a x b, the out-of-plane component.
     static Angular cross(const Vec& a, const Vec& b) { return a.x() * b.y() - a.y() * b.x(); }
     /// v x w for an out-of-plane w: (v1 w, -v0 w).
@@ -51,7 +50,6 @@ struct DimTraits<3> {
 
     static double particle_volume(double a) { return 4.0 / 3.0 * std::numbers::pi * a * a * a; }
 
-    static Angular zero_angular() { return Angular::Zero(); }
     static Angular cross(const Vec& a, const Vec& b) { return a.cross(b); }
     static double squared_norm(const Angular& w) { return w.squaredNorm(); }
     static double dot(const Angular& a, const Angular& b) { return a.dot(b); }
@@ -64,6 +62,13 @@ using Vec = Eigen::Matrix<Real, dim, 1>;
 /// Angular velocity or torque: a scalar in 2D, a 3-vector in 3D.
 template <int dim, class Real = double>
 using Angular = std::conditional_t<dim == 2, Real, Eigen::Matrix<Real, 3, 1>>;
+
+/// A zero angular velocity or torque.
+template <int dim, class Real = double>
+Angular<dim, Real> zero_angular() {
+    if constexpr (dim == 2) return Real(0);
+    else return Angular<dim, Real>::Zero();
+}
 
 /// Converts a stored value (scalar or Eigen vector) to precision `To`; free when it already is.
 template <class To, class From>

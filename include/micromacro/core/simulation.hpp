@@ -569,14 +569,9 @@ private:
             History* h = nullptr;
             if constexpr (has_tangential) h = history + c;
             const Response resp = respond<track>(n, reach - dist, n.dot(dv), relative_velocity(i, j, n, dv), h, books);
-            if constexpr (std::is_same_v<Real, double>) {
-                f[i] += resp.force;
-                f[j] -= resp.force;
-            } else {
-                const SV stored = convert<Real>(resp.force);
-                f[i] += stored;
-                f[j] -= stored;
-            }
+            const SV& stored = convert<Real>(resp.force);  // resp.force itself in double
+            f[i] += stored;
+            f[j] -= stored;
             if constexpr (rotation) {
                 const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
                 torque[i] -= convert<Real>(A(double(r[i]) * arm));
@@ -604,7 +599,7 @@ private:
             for (auto& a : thread_force_) a.resize(n, SV::Zero());  // kept zero between calls
             if constexpr (rotation) {
                 thread_torque_.resize(shares - 1);
-                for (auto& a : thread_torque_) a.resize(n, zero_stored_angular());
+                for (auto& a : thread_torque_) a.resize(n, zero_angular<dim, Real>());
             }
             MICROMACRO_OMP(omp parallel num_threads(shares)) {
                 const int t = detail::thread_number();
@@ -625,7 +620,7 @@ private:
                         SA* other_torque = thread_torque_[u - 1].data();
                         for (std::size_t i = i0; i < i1; ++i) {
                             torque[i] += other_torque[i];
-                            other_torque[i] = zero_stored_angular();
+                            other_torque[i] = zero_angular<dim, Real>();
                         }
                     }
                 }
@@ -643,7 +638,7 @@ private:
         const auto& x = particles_.position();
         const auto& r = particles_.radius();
         f.assign(particles_.size(), SV::Zero());
-        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_stored_angular());
+        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, Real>());
         pair_forces<track>();
         if constexpr (has_walls) {
             for (auto& wall : walls_) wall.force = V::Zero();
@@ -846,11 +841,6 @@ private:
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
     std::size_t steps_ = 0, rebuilds_ = 0;
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
-
-    static SA zero_stored_angular() {
-        if constexpr (dim == 2) return Real(0);
-        else return SA::Zero();
-    }
 };
 
 /// The engine in double precision (the usual choice; see BasicSimulation for float storage).

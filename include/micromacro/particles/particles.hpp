@@ -79,8 +79,8 @@ public:
             if (inertia <= 0.0) inertia = sphere_inertia(mass, radius);
             if (!std::isfinite(inertia))
                 detail::throw_input_error("particle ", i, ": moment of inertia = ", inertia, " is not finite");
-            angular_velocity_.push_back(zero_angular());
-            torque_.push_back(zero_angular());
+            angular_velocity_.push_back(zero_angular<dim, Real>());
+            torque_.push_back(zero_angular<dim, Real>());
             inertia_.push_back(static_cast<Real>(inertia));
             inverse_inertia_.push_back(static_cast<Real>(1.0 / inertia));
         }
@@ -133,11 +133,6 @@ public:
     }
 
 private:
-    static A zero_angular() {
-        if constexpr (dim == 2) return Real(0);
-        else return A::Zero();
-    }
-
     template <class Field, class Self>
     static auto& select(Self& self) {
         if constexpr (std::is_same_v<Field, field::Position>) return self.position_;
