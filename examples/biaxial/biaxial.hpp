@@ -8,6 +8,7 @@
 // stress-controlled at p (Eq. 18), the lower walls stay fixed; after T/2 the top wall stops and
 // the packing relaxes. Averages (Sec. 4.4) are taken in the inner box, 10% left out next to each
 // wall, with the contact-point rule.
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -247,6 +248,14 @@ public:
         return 1.0 - (w[2 * up + 1].coordinate() - w[2 * up].coordinate()) / box0_[up];
     }
     double load_end() const { return load_start_ + 0.5 * c_.period + c_.relax; }
+    /// Steps between two rows of the time series (the output interval, rounded to whole steps).
+    std::size_t steps_per_row() const {
+        return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c_.output_interval / sim_.time_step())));
+    }
+    /// Rows of the loading's time series, the first at its start.
+    std::size_t loading_rows() const {
+        return 1 + static_cast<std::size_t>(std::ceil((load_end() - load_start_) / (steps_per_row() * sim_.time_step())));
+    }
 
     /// The time-series row of the present state.
     Row row() const {

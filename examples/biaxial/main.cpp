@@ -287,8 +287,8 @@ int run(const Config& c, const Plan& plan) {
         ++rows_done;
     };
     const double dt = sim.time_step();
-    const auto steps_per_row = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c.output_interval / dt)));
-    const auto total_rows = 1 + static_cast<std::size_t>(std::ceil((exp.load_end() - exp.load_start()) / (steps_per_row * dt)));
+    const auto steps_per_row = exp.steps_per_row();
+    const auto total_rows = exp.loading_rows();
     if (rows_done == 0) write_row();
     double last_checkpoint = sim.time();
     while (rows_done < total_rows) {

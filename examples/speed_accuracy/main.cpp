@@ -83,7 +83,7 @@ struct Outcome {
     std::string failure;  // the error message of a run that stopped; empty if it completed
     double seconds = 0, particle_steps = 0, steps = 0;
     double peak_ratio = 0, strain_at_peak = 0, max_fabric = 0, Cn_at_peak = 0, wall_gap = 0, residual = 0;
-    double wall_stress = 0, box_stress = 0;  // for the kernel rows: the relaxed state's inner-box sigma_22
+    double box_stress = 0;  // for the kernel rows: the relaxed state's inner-box sigma_22
     mm::PackingSnapshot<2> relaxed;
 };
 
@@ -105,10 +105,8 @@ Outcome run_biaxial(const biaxial::Config& c) {
     exp.prepare();
     exp.start_loading();
     auto& sim = exp.simulation();
-    const double dt = sim.time_step();
-    const auto steps_per_row = std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c.output_interval / dt)));
-    const auto rows = 1 + static_cast<std::size_t>(std::ceil((exp.load_end() - exp.load_start()) / (steps_per_row * dt)));
     std::map<std::string, std::vector<double>> col;
+    const std::size_t rows = exp.loading_rows(), steps_per_row = exp.steps_per_row();
     for (std::size_t r = 0; r < rows; ++r) {
         if (r) sim.run(steps_per_row);
         const auto row = exp.row();
@@ -141,7 +139,6 @@ Outcome run_biaxial(const biaxial::Config& c) {
     o.wall_gap = motion_rows ? gap / static_cast<double>(motion_rows) : NAN;
     o.relaxed = mm::take_snapshot(sim);
     o.box_stress = col.at("sigma_22").back();
-    o.wall_stress = col.at("sigma_wall_22").back();
     return o;
 }
 
@@ -163,7 +160,7 @@ Outcome run_variant(const Variant& v, int seeds, unsigned long long first_seed) 
             mean.failure = "seed " + std::to_string(c.seed) + ": " + e.what();
             return mean;
         }
-        if (k == 0) mean.relaxed = o.relaxed, mean.box_stress = o.box_stress, mean.wall_stress = o.wall_stress;
+        if (k == 0) mean.relaxed = o.relaxed, mean.box_stress = o.box_stress;
         const double w = 1.0 / seeds;
         mean.seconds += w * o.seconds, mean.particle_steps += w * o.particle_steps, mean.steps += w * o.steps;
         mean.peak_ratio += w * o.peak_ratio, mean.strain_at_peak += w * o.strain_at_peak, mean.max_fabric += w * o.max_fabric;
