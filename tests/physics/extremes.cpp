@@ -226,24 +226,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(size_ratios_ten_and_twenty, D, Dims) {
 // and 100 steps later within 10x of it. 1e9 m away prepare() refuses the scene.
 BOOST_AUTO_TEST_CASE_TEMPLATE(packing_far_from_the_origin, D, Dims) {
     constexpr int dim = D::value;
-    using V = mm::Vec<dim>;
-    const int side = dim == 2 ? 16 : 7;
-    const double overlap = 1e-7, spacing = 2 * a_mean - overlap, m = mm::sphere_mass(rho, a_mean);
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)};
-    auto lattice_at = [&](double shift) {
-        const V offset = V::Constant(shift);
-        mm::Simulation<dim, mm::FrictionalLinear> sim(law, mm::Domain<dim>::fully_periodic(offset, V(offset + V::Constant(side * spacing))));
-        std::mt19937_64 rng(3);
-        std::uniform_real_distribution<double> jitter(-0.2 * overlap, 0.2 * overlap);
-        for (int cell = 0; cell < static_cast<int>(std::pow(side, dim)); ++cell) {
-            V x;
-            for (int a = 0, c = cell; a < dim; ++a, c /= side) x[a] = (c % side + 0.5) * spacing + jitter(rng);
-            sim.particles().add(V(x + offset), a_mean, m);
-        }
-        sim.set_time_step(mm::contact_duration(k, gamma0, m / 2) / 50);
-        return sim;
-    };
-    auto near = lattice_at(0.0), far = lattice_at(1e3);
+    const double overlap = 1e-7;
+    auto near = jittered_lattice<dim>(overlap), far = jittered_lattice<dim>(overlap, 1e3);
     const double contact_force = k * overlap;
     auto largest_difference = [&] {
         double d = 0.0;
@@ -267,6 +251,6 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(packing_far_from_the_origin, D, Dims) {
     const double eps = std::numeric_limits<double>::epsilon();
     BOOST_TEST(far.position_resolution() >= 1e3 * eps);  // the farthest coordinate is 1e3 m + the box
     BOOST_TEST(far.position_resolution() <= 1.0001e3 * eps);
-    auto too_far = lattice_at(1e9);
+    auto too_far = jittered_lattice<dim>(overlap, 1e9);
     expect_error([&] { too_far.prepare(); }, {"from the origin are resolved to", "move the origin into the packing"});
 }

@@ -19,22 +19,10 @@ using namespace mmtest;
 namespace {
 constexpr double overlap = 1e-5;  // 1% of the radius: float resolves it to ~4e-4 at these coordinates
 
-// A jittered periodic lattice with the given overlap, stored in Real.
+// The support's jittered lattice with that overlap, stored in Real.
 template <int dim, class Real>
 auto lattice(bool allow_coarse) {
-    using V = mm::Vec<dim>;
-    const int side = dim == 2 ? 16 : 7;
-    const double spacing = 2 * a_mean - overlap, m = mm::sphere_mass(rho, a_mean);
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)};
-    mm::BasicSimulation<dim, Real, mm::FrictionalLinear> sim(law, periodic_box<dim>(side * spacing));
-    std::mt19937_64 rng(3);
-    std::uniform_real_distribution<double> jitter(-0.2 * overlap, 0.2 * overlap);
-    for (int cell = 0; cell < static_cast<int>(std::pow(side, dim)); ++cell) {
-        V x;
-        for (int a = 0, c = cell; a < dim; ++a, c /= side) x[a] = (c % side + 0.5) * spacing + jitter(rng);
-        sim.particles().add(x, a_mean, m);
-    }
-    sim.set_time_step(mm::contact_duration(k, gamma0, m / 2) / 50);
+    auto sim = jittered_lattice<dim, Real>(overlap);
     sim.allow_coarse_positions(allow_coarse);
     return sim;
 }

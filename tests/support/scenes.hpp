@@ -105,6 +105,28 @@ auto relaxed_simulation(std::size_t n, double nu, unsigned seed, int walled_axes
     return sim;
 }
 
+/// A square or simple cubic periodic lattice (16^2 or 7^3) of paper particles (a = 1 mm,
+/// frictional) pressed together by `overlap`, each centre jittered by up to 0.2 overlap, in the box
+/// [origin, origin + L)^dim, with the particle state stored in Real; dt = t_c/50.
+template <int dim, class Real = double>
+auto jittered_lattice(double overlap, double origin = 0.0) {
+    using V = mm::Vec<dim>;
+    const int side = dim == 2 ? 16 : 7;
+    const double spacing = 2 * a_mean - overlap, m = mm::sphere_mass(rho, a_mean);
+    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)};
+    const V lo = V::Constant(origin);
+    mm::BasicSimulation<dim, Real, mm::FrictionalLinear> sim(law, mm::Domain<dim>::fully_periodic(lo, V(lo + V::Constant(side * spacing))));
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> jitter(-0.2 * overlap, 0.2 * overlap);
+    for (int cell = 0; cell < static_cast<int>(std::pow(side, dim)); ++cell) {
+        V x;
+        for (int a = 0, c = cell; a < dim; ++a, c /= side) x[a] = (c % side + 0.5) * spacing + jitter(rng);
+        sim.particles().add(V(x + lo), a_mean, m);
+    }
+    sim.set_time_step(mm::contact_duration(k, gamma0, m / 2) / 50);
+    return sim;
+}
+
 template <int dim>
 mm::PackingSnapshot<dim> relaxed_packing(std::size_t n, double nu, unsigned seed, int walled_axes = 1, double mu = 0.5) {
     return mm::take_snapshot(relaxed_simulation<dim>(n, nu, seed, walled_axes, mu));
