@@ -6,6 +6,7 @@
 // Non-periodic axes are open: particles are held in by walls (or not at all).
 #include <array>
 #include <cmath>
+#include <limits>
 
 #include <Eigen/Core>
 
@@ -20,7 +21,10 @@ public:
     using V = Vec<dim>;
 
     /// An unbounded domain: no periodic axis.
-    Domain() : lo_(V::Zero()), hi_(V::Zero()) { periodic_.fill(false); }
+    Domain() : lo_(V::Zero()), hi_(V::Zero()) {
+        periodic_.fill(false);
+        refresh();
+    }
 
     /// A box [lo, hi) with the given periodic axes.
     Domain(const V& lo, const V& hi, std::array<bool, dim> periodic) : lo_(lo), hi_(hi), periodic_(periodic) {
@@ -29,6 +33,7 @@ public:
                 detail::throw_input_error("Domain: axis ", a, " has lo = ", lo[a], " and hi = ", hi[a],
                                           "; a box needs finite bounds with hi > lo");
         }
+        refresh();
     }
 
     /// A box [lo, hi) periodic on every axis (a representative volume without walls).
@@ -60,13 +65,11 @@ public:
     /// Separation a - b, shortened to the nearest periodic image on periodic axes.
     V separation(const V& a, const V& b) const {
         V d = a - b;
+        // Wrapped positions differ by less than L, so the division and rounding (a library call
+        // on baseline x86-64) are needed only past half a box length. half_ is infinite on open
+        // axes, so the first test (the one the pair loop pays for) fails there too.
         for (int k = 0; k < dim; ++k)
-            if (periodic_[k]) {
-                // Wrapped positions differ by less than L, so the division and rounding (a
-                // library call on baseline x86-64) are needed only past half a box length.
-                const double L = hi_[k] - lo_[k];
-                if (std::abs(d[k]) >= 0.5 * L) d[k] -= L * std::round(d[k] / L);
-            }
+            if (std::abs(d[k]) >= half_[k] && periodic_[k]) d[k] -= length_[k] * std::round(d[k] / length_[k]);
         return d;
     }
 
@@ -85,6 +88,7 @@ public:
         ar.value(lo_);
         ar.value(hi_);
         ar.value(periodic_);
+        refresh();
     }
 
     /// A periodic axis must be at least two interaction ranges long, otherwise a particle would
@@ -98,8 +102,16 @@ public:
     }
 
 private:
+    void refresh() {
+        for (int k = 0; k < dim; ++k) {
+            length_[k] = hi_[k] - lo_[k];
+            half_[k] = periodic_[k] ? 0.5 * length_[k] : std::numeric_limits<double>::infinity();
+        }
+    }
+
     V lo_, hi_;
     std::array<bool, dim> periodic_;
+    V length_, half_;  // derived from the above by refresh()
 };
 
 }  // namespace micromacro

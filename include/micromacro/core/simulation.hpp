@@ -272,8 +272,19 @@ public:
         SV* v = particles_.template get<field::Velocity>().data();
         const SV* f = particles_.template get<field::Force>().data();
         const Real* inv_m = particles_.template get<field::InverseMass>().data();
+        [[maybe_unused]] SA* w = nullptr;
+        [[maybe_unused]] const SA* torque = nullptr;
+        [[maybe_unused]] const Real* inv_I = nullptr;
+        if constexpr (rotation) {
+            w = particles_.template get<field::AngularVelocity>().data();
+            torque = particles_.template get<field::Torque>().data();
+            inv_I = particles_.template get<field::InverseInertia>().data();
+        }
         const SV* reference = reference_.data();
         const std::size_t n = particles_.size();
+        // A local copy: the stores to x and v could alias the members, which the compiler would
+        // then reload for every particle.
+        const Domain<dim> domain = domain_;
         double max_move_sq = 0.0;
         MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq) if (active_threads() > 1))
         for (std::size_t i = 0; i < n; ++i) {
@@ -281,25 +292,22 @@ public:
             V vi = convert<double>(v[i]) + h_before * a;
             V xi = convert<double>(x[i]) + dt * vi;
             vi += h_after * a;
-            domain_.wrap(xi);
-            x[i] = convert<Real>(xi);
+            domain.wrap(xi);
+            // The displacement from the stored value, not reloaded from x[i]: wrap() stores
+            // coordinates one by one, and a vector load right after them stalls.
+            const SV stored = convert<Real>(xi);
+            x[i] = stored;
             v[i] = convert<Real>(vi);
-            max_move_sq = std::max(max_move_sq, domain_.separation(convert<double>(x[i]), convert<double>(reference[i])).squaredNorm());
-        }
-        if constexpr (rotation) {
-            auto* w = particles_.template get<field::AngularVelocity>().data();
-            const auto* t = particles_.template get<field::Torque>().data();
-            const Real* inv_I = particles_.template get<field::InverseInertia>().data();
-            MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-            for (std::size_t i = 0; i < n; ++i)
-                w[i] = convert<Real>(A(convert<double>(w[i]) + (h_before + h_after) * double(inv_I[i]) * convert<double>(t[i])));
+            max_move_sq = std::max(max_move_sq, domain.separation(convert<double>(stored), convert<double>(reference[i])).squaredNorm());
+            if constexpr (rotation)
+                w[i] = convert<Real>(A(convert<double>(w[i]) + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
         }
         if (!std::isfinite(max_move_sq)) report_blow_up();
         double wall_move = 0.0;
         if constexpr (has_walls) {
             walls_.move(time_, dt, domain_);
-            for (std::size_t w = 0; w < walls_.size(); ++w)
-                wall_move = std::max(wall_move, std::abs(walls_[w].offset - wall_reference_[w]));
+            for (std::size_t k = 0; k < walls_.size(); ++k)
+                wall_move = std::max(wall_move, std::abs(walls_[k].offset - wall_reference_[k]));
         }
         time_ += dt;
         const double move = std::sqrt(max_move_sq);
@@ -308,19 +316,26 @@ public:
 
     void kick_force_change(double h) {
         static_assert(Integrator::keeps_previous_forces);
-        auto& v = particles_.template get<field::Velocity>();
-        const auto& f = particles_.template get<field::Force>();
-        const auto& inv_m = particles_.template get<field::InverseMass>();
-        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-        for (std::size_t i = 0; i < v.size(); ++i)
-            v[i] = convert<Real>(V(convert<double>(v[i]) + (h * double(inv_m[i])) * (convert<double>(f[i]) - convert<double>(previous_force_[i]))));
+        SV* v = particles_.template get<field::Velocity>().data();
+        const SV* f = particles_.template get<field::Force>().data();
+        const SV* f_old = previous_force_.data();
+        const Real* inv_m = particles_.template get<field::InverseMass>().data();
+        [[maybe_unused]] SA* w = nullptr;
+        [[maybe_unused]] const SA* torque = nullptr;
+        [[maybe_unused]] const SA* torque_old = nullptr;
+        [[maybe_unused]] const Real* inv_I = nullptr;
         if constexpr (rotation) {
-            auto& w = particles_.template get<field::AngularVelocity>();
-            const auto& t = particles_.template get<field::Torque>();
-            const auto& inv_I = particles_.template get<field::InverseInertia>();
-            MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-            for (std::size_t i = 0; i < w.size(); ++i)
-                w[i] = convert<Real>(A(convert<double>(w[i]) + (h * double(inv_I[i])) * (convert<double>(t[i]) - convert<double>(previous_torque_[i]))));
+            w = particles_.template get<field::AngularVelocity>().data();
+            torque = particles_.template get<field::Torque>().data();
+            torque_old = previous_torque_.data();
+            inv_I = particles_.template get<field::InverseInertia>().data();
+        }
+        const std::size_t n = particles_.size();
+        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
+        for (std::size_t i = 0; i < n; ++i) {
+            v[i] = convert<Real>(V(convert<double>(v[i]) + (h * double(inv_m[i])) * (convert<double>(f[i]) - convert<double>(f_old[i]))));
+            if constexpr (rotation)
+                w[i] = convert<Real>(A(convert<double>(w[i]) + (h * double(inv_I[i])) * (convert<double>(torque[i]) - convert<double>(torque_old[i]))));
         }
     }
 
