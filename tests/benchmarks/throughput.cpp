@@ -39,6 +39,7 @@ struct Options {
     double k = 1e5, kt = 2e4, mu = 0.5;
     int threads = 1;
     std::string precision = "double";
+    bool track_energy = true;
 };
 
 double peak_rss_bytes() {
@@ -86,6 +87,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
     }
     mm::BasicSimulation<dim, Real, Law> sim(law, domain);
     sim.set_threads(o.threads);
+    sim.set_track_energy(o.track_energy);
     sim.allow_coarse_positions(true);  // float cannot resolve these overlaps; here only the time counts
     const double rho = 2000.0;
     for (std::size_t i = 0; i < x.size(); ++i) sim.particles().add(x[i], r[i], mm::sphere_mass(rho, r[i]));
@@ -151,6 +153,7 @@ int main(int argc, char** argv) {
     app.add_option("--kt", o.kt, "tangential stiffness (N/m)")->capture_default_str();
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
     app.add_option("--threads", o.threads, "threads (OpenMP)")->capture_default_str();
+    app.add_flag("!--no-energy", o.track_energy, "switch the energy books off (on by default, as in the examples)");
     app.add_option("--precision", o.precision, "storage precision of the particle state: double or float")
         ->check(CLI::IsMember({"double", "float"}))
         ->capture_default_str();

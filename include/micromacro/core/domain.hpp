@@ -65,11 +65,11 @@ public:
     /// Separation a - b, shortened to the nearest periodic image on periodic axes.
     V separation(const V& a, const V& b) const {
         V d = a - b;
-        // Wrapped positions differ by less than L, so the division and rounding (a library call
-        // on baseline x86-64) are needed only past half a box length. half_ is infinite on open
-        // axes, so the first test (the one the pair loop pays for) fails there too.
+        // Wrapped positions differ by less than L, so the image is needed only past half a box
+        // length: one compare per axis (half_ is infinite on open axes), and the rare case out of
+        // line, where its division and library call cannot crowd the pair loop's registers.
         for (int k = 0; k < dim; ++k)
-            if (std::abs(d[k]) >= half_[k] && periodic_[k]) d[k] -= length_[k] * std::round(d[k] / length_[k]);
+            if (std::abs(d[k]) >= half_[k]) [[unlikely]] d[k] = nearest_image(d[k], k);
         return d;
     }
 
@@ -102,6 +102,10 @@ public:
     }
 
 private:
+    [[gnu::noinline]] double nearest_image(double d, int k) const {
+        return periodic_[k] ? d - length_[k] * std::round(d / length_[k]) : d;
+    }
+
     void refresh() {
         for (int k = 0; k < dim; ++k) {
             length_[k] = hi_[k] - lo_[k];

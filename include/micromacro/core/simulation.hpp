@@ -534,14 +534,14 @@ private:
     // The physics of one contact, shared by particle pairs and wall contacts. What it dissipates
     // goes to `books` (a local copy in the pair loop, so the sums stay in registers).
     template <bool track>
-    MICROMACRO_INLINE Response respond(const V& n, double overlap, double normal_velocity, const V& relative_velocity, History* h,
-                     EnergyBooks& books, bool smooth = false) const {
-        const NormalForce fn = law_.normal.force(overlap, normal_velocity);
-        if constexpr (track) books.dissipated_normal -= fn.viscous * normal_velocity * dt_;
+    MICROMACRO_INLINE static Response respond(const Law& law, double dt, const V& n, double overlap, double normal_velocity,
+                                              const V& relative_velocity, History* h, EnergyBooks& books, bool smooth = false) {
+        const NormalForce fn = law.normal.force(overlap, normal_velocity);
+        if constexpr (track) books.dissipated_normal -= fn.viscous * normal_velocity * dt;
         Response out{fn.total() * n, V::Zero(), fn.total()};
         if constexpr (has_tangential) {
             if (smooth) return out;  // a frictionless wall: normal part only
-            const auto ft = law_.tangential.template force<dim, track>(n, relative_velocity, fn.total(), dt_, *h);
+            const auto ft = law.tangential.template force<dim, track>(n, relative_velocity, fn.total(), dt, *h);
             if constexpr (track) {
                 books.dissipated_tangential += ft.dissipated_viscous;
                 books.dissipated_sliding += ft.dissipated_sliding;
@@ -553,8 +553,10 @@ private:
     }
 
     // The one pair loop, over candidates [begin, end), adding into the arrays f and torque (the
-    // particles' own, or a thread's). Raw pointers and a local energy account: through the
-    // vectors the compiler would reload every array's address after each store to the forces.
+    // particles' own, or a thread's). Raw pointers and local copies of the law, the box and the
+    // energy account: through the members the compiler would reload them after every store to
+    // the forces. (Keeping i's values in registers over its run of partners was tried: more
+    // instructions and no faster, the loop then runs out of registers.)
     // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
     template <bool track>
     void pair_forces(std::size_t begin, std::size_t end, SV* f, [[maybe_unused]] SA* torque, EnergyBooks& books,
@@ -562,14 +564,20 @@ private:
         const SV* x = particles_.position().data();
         const SV* v = particles_.velocity().data();
         const Real* r = particles_.radius().data();
+        [[maybe_unused]] const SA* w = nullptr;
+        if constexpr (rotation) w = particles_.template get<field::AngularVelocity>().data();
         const IndexPair* pair = pairs_.pairs().data();
         [[maybe_unused]] History* history = nullptr;
         if constexpr (has_tangential) history = pairs_.history_data();
+        const Domain<dim> domain = domain_;
+        const Law law = law_;
+        const double dt = dt_;
+        EnergyBooks account = books;
         for (std::size_t c = begin; c < end; ++c) {
             const auto [i, j] = pair[c];
-            const V d = domain_.separation(convert<double>(x[i]), convert<double>(x[j]));
+            const V d = domain.separation(convert<double>(x[i]), convert<double>(x[j]));
             const double dist_sq = d.squaredNorm();
-            const double reach = double(r[i]) + double(r[j]);
+            const double ri = r[i], rj = r[j], reach = ri + rj;
             if (dist_sq >= reach * reach) {
                 if constexpr (has_tangential) history[c] = History{};  // the contact opened
                 continue;
@@ -581,18 +589,21 @@ private:
             const double dist = std::sqrt(dist_sq);
             const V n = d * (1.0 / dist);
             const V dv = convert<double>(v[i]) - convert<double>(v[j]);
+            V vr = dv;  // Eq. 25: v_i - v_j + a_i n x w_i + a_j n x w_j
+            if constexpr (rotation) vr += T::cross(n, A(ri * convert<double>(w[i]) + rj * convert<double>(w[j])));
             History* h = nullptr;
             if constexpr (has_tangential) h = history + c;
-            const Response resp = respond<track>(n, reach - dist, n.dot(dv), relative_velocity(i, j, n, dv), h, books);
+            const Response resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
             const SV& stored = convert<Real>(resp.force);  // resp.force itself in double
             f[i] += stored;
             f[j] -= stored;
             if constexpr (rotation) {
                 const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
-                torque[i] -= convert<Real>(A(double(r[i]) * arm));
-                torque[j] -= convert<Real>(A(double(r[j]) * arm));
+                torque[i] -= convert<Real>(A(ri * arm));
+                torque[j] -= convert<Real>(A(rj * arm));
             }
         }
+        books = account;
     }
 
     // All pair forces, on threads_ threads: each takes an equal contiguous share of the
@@ -667,7 +678,7 @@ private:
                 }
                 const V& n = wall.normal;
                 const V vr = wall_relative_velocity(i, wall);
-                const Response resp = respond<track>(n, a - s, n.dot(vr), vr, history_of(wall_contacts_, c),
+                const Response resp = respond<track>(law_, dt_, n, a - s, n.dot(vr), vr, history_of(wall_contacts_, c),
                                                      step_books_, wall.frictionless);
                 f[i] += convert<Real>(resp.force);
                 wall.force -= resp.force;
