@@ -246,10 +246,13 @@ public:
     void step() {
         if (!prepared_ || reference_.size() != particles_.size()) prepare();
         integrator_.step(*this, dt_);
-        ++steps_;
     }
+    /// Runs `steps` steps: the same bits as calling step() that often, with fewer passes over
+    /// the particles where the integrator can merge one step's last stage into the next's first.
     void run(std::size_t steps) {
-        for (std::size_t s = 0; s < steps; ++s) step();
+        if (steps == 0) return;
+        if (!prepared_ || reference_.size() != particles_.size()) prepare();
+        integrator_.run(*this, dt_, steps);
     }
     /// Runs `steps` steps and calls observer(*this) after each.
     template <class Observer>
@@ -266,19 +269,36 @@ public:
     // ---- integrator stages -------------------------------------------------------------------
     /// Kick by h_before, drift by dt, kick by h_after (either kick may be zero), in one pass over
     /// the particles: the same arithmetic as three passes, with a third of the memory traffic,
-    /// which is what limits large packings. Walls move, time advances, lists refresh as needed.
-    void kick_drift_kick(double h_before, double dt, double h_after) {
+    /// which is what limits large packings. With h_closing != 0 the pass first completes the
+    /// previous step by kick_force_change(h_closing) (run() merges the two stages this way).
+    /// The pass also clears the array the next compute_forces() accumulates into, once its
+    /// values are dead. Walls move, time advances, lists refresh as needed.
+    void kick_drift_kick(double h_before, double dt, double h_after, double h_closing = 0.0) {
         SV* x = particles_.template get<field::Position>().data();
         SV* v = particles_.template get<field::Velocity>().data();
-        const SV* f = particles_.template get<field::Force>().data();
+        SV* f = particles_.template get<field::Force>().data();
         const Real* inv_m = particles_.template get<field::InverseMass>().data();
         [[maybe_unused]] SA* w = nullptr;
-        [[maybe_unused]] const SA* torque = nullptr;
+        [[maybe_unused]] SA* torque = nullptr;
         [[maybe_unused]] const Real* inv_I = nullptr;
         if constexpr (rotation) {
             w = particles_.template get<field::AngularVelocity>().data();
             torque = particles_.template get<field::Torque>().data();
             inv_I = particles_.template get<field::InverseInertia>().data();
+        }
+        if constexpr (Integrator::keeps_previous_forces && !std::is_same_v<Real, double>) {
+            // The closing kick must round v to float before the next kick, and GCC 12 at -O2
+            // folds a double -> float -> double round trip of SSE vectors to nothing (measured:
+            // tests/unit/run_stages.cpp): with float storage it keeps its own pass.
+            if (h_closing != 0.0) kick_force_change(h_closing);
+            h_closing = 0.0;
+        }
+        // The forces of the step before (Verlet): read by a closing kick, then cleared.
+        [[maybe_unused]] SV* f_old = nullptr;
+        [[maybe_unused]] SA* torque_old = nullptr;
+        if constexpr (Integrator::keeps_previous_forces) {
+            f_old = previous_force_.data();
+            if constexpr (rotation) torque_old = previous_torque_.data();
         }
         const SV* reference = reference_.data();
         const std::size_t n = particles_.size();
@@ -288,8 +308,21 @@ public:
         double max_move_sq = 0.0;
         MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq) if (active_threads() > 1))
         for (std::size_t i = 0; i < n; ++i) {
-            const V a = double(inv_m[i]) * convert<double>(f[i]);
-            V vi = convert<double>(v[i]) + h_before * a;
+            const V fi = convert<double>(f[i]);
+            V vi = convert<double>(v[i]);
+            [[maybe_unused]] A wi = zero_angular<dim, double>();
+            if constexpr (rotation) wi = convert<double>(w[i]);
+            if constexpr (Integrator::keeps_previous_forces) {
+                if (h_closing != 0.0) {  // kick_force_change(h_closing), the same arithmetic (double only)
+                    vi += (h_closing * double(inv_m[i])) * (fi - convert<double>(f_old[i]));
+                    if constexpr (rotation)
+                        wi += (h_closing * double(inv_I[i])) * (convert<double>(torque[i]) - convert<double>(torque_old[i]));
+                }
+                f_old[i] = SV::Zero();  // becomes the force array at the next compute_forces()
+                if constexpr (rotation) torque_old[i] = zero_angular<dim, Real>();
+            }
+            const V a = double(inv_m[i]) * fi;
+            vi += h_before * a;
             V xi = convert<double>(x[i]) + dt * vi;
             vi += h_after * a;
             domain.wrap(xi);
@@ -299,9 +332,13 @@ public:
             x[i] = stored;
             v[i] = convert<Real>(vi);
             max_move_sq = std::max(max_move_sq, domain.separation(convert<double>(stored), convert<double>(reference[i])).squaredNorm());
-            if constexpr (rotation)
-                w[i] = convert<Real>(A(convert<double>(w[i]) + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
+            if constexpr (rotation) {
+                w[i] = convert<Real>(A(wi + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
+                if constexpr (!Integrator::keeps_previous_forces) torque[i] = zero_angular<dim, Real>();
+            }
+            if constexpr (!Integrator::keeps_previous_forces) f[i] = SV::Zero();  // read for the last time
         }
+        accumulators_cleared_ = true;
         if (!std::isfinite(max_move_sq)) report_blow_up();
         double wall_move = 0.0;
         if constexpr (has_walls) {
@@ -310,6 +347,7 @@ public:
                 wall_move = std::max(wall_move, std::abs(walls_[k].offset - wall_reference_[k]));
         }
         time_ += dt;
+        ++steps_;
         const double move = std::sqrt(max_move_sq);
         if (2.0 * move >= skin_ || move + wall_move >= skin_) rebuild_neighbors();
     }
@@ -663,8 +701,11 @@ private:
         auto& f = particles_.template get<field::Force>();
         const auto& x = particles_.position();
         const auto& r = particles_.radius();
-        f.assign(particles_.size(), SV::Zero());
-        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, Real>());
+        if (!accumulators_cleared_) {  // else kick_drift_kick() cleared them in its pass
+            f.assign(particles_.size(), SV::Zero());
+            if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, Real>());
+        }
+        accumulators_cleared_ = false;
         pair_forces<track>();
         if constexpr (has_walls) {
             for (auto& wall : walls_) wall.force = V::Zero();
@@ -867,6 +908,7 @@ private:
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
     std::size_t steps_ = 0, rebuilds_ = 0;
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
+    bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick
 };
 
 /// The engine in double precision (the usual choice; see BasicSimulation for float storage).

@@ -1,12 +1,14 @@
 #pragma once
 // Time integrators. An integrator orders the stages every scene offers:
-//   kick_drift_kick(h1, dt, h2)
-//                         v += h1 F/m, x += dt v, v += h2 F/m (omega += (h1 + h2) T/I when
-//                         particles rotate); walls move, time advances, neighbour lists refresh,
+//   kick_drift_kick(h1, dt, h2[, h0])
+//                         [kick_force_change(h0), then] v += h1 F/m, x += dt v, v += h2 F/m
+//                         (omega += (h1 + h2) T/I when particles rotate); walls move, time and
+//                         the step count advance, neighbour lists refresh,
 //   compute_forces()      all forces and torques at the current positions and velocities,
 //   kick_force_change(h)  v += h (F - F_previous)/m, for integrators that keep F_previous.
 // On entry to step() the forces belong to the current state; so they do on exit.
 #include <cmath>
+#include <cstddef>
 
 namespace micromacro {
 
@@ -28,6 +30,16 @@ struct VelocityVerlet {
         s.compute_forces();             // a_{n+1}
         s.kick_force_change(0.5 * dt);  // v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}
     }
+    /// `steps` steps with each closing kick merged into the next step's pass: two passes over
+    /// the particles per step instead of three, the same arithmetic.
+    template <class Stages>
+    void run(Stages& s, double dt, std::size_t steps) const {
+        for (std::size_t k = 0; k < steps; ++k) {
+            s.kick_drift_kick(0.5 * dt, dt, 0.5 * dt, k == 0 ? 0.0 : 0.5 * dt);
+            s.compute_forces();
+        }
+        s.kick_force_change(0.5 * dt);
+    }
     /// Largest stable dt for x'' = -omega0^2 x - 2 eta x' (derived from det(M + 1) = 0 of the
     /// one-step map; with the predicted velocity the damping acts like 2 eta of the plain scheme).
     static double stability_limit(double omega0, double eta) {
@@ -45,6 +57,10 @@ struct SymplecticEuler {
     void step(Stages& s, double dt) const {
         s.kick_drift_kick(dt, dt, 0.0);
         s.compute_forces();
+    }
+    template <class Stages>
+    void run(Stages& s, double dt, std::size_t steps) const {
+        for (std::size_t k = 0; k < steps; ++k) step(s, dt);
     }
     /// Largest stable dt for x'' = -omega0^2 x - 2 eta x'.
     static double stability_limit(double omega0, double eta) {
