@@ -23,7 +23,13 @@ row() {  # dim particles law threads [extra]
   eng=$(echo "$first" | grep -o '"storage_bytes_per_particle": [0-9.]*' | awk '{print $2}')
   rss=$(echo "$first" | grep -o '"bytes_per_particle": [0-9.]*' | awk '{print $2}')
   local label=""
-  case "$extra" in *shear*) label=" (shear)" ;; *float*) label=", float storage" ;; esac
+  case "$extra" in
+    *shear*) label=" (shear)" ;;
+    *float*) label=", float storage" ;;
+    *shuffle*sort*) label=", shuffled then sort_spatially()" ;;
+    *shuffle*) label=", particles in random order" ;;
+    *no-energy*) label=", energy books off" ;;
+  esac
   printf '| %dD %s%s | %d | %.2f | %d | %.3g | %.1f | %.0f | %.0f |\n' "$dim" "$law" "$label" "$n" \
     "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$pps" "$ns" "$eng" "$rss"
 }
@@ -36,7 +42,13 @@ row 2 200000 frictionless 1
 row 2 200000 frictional 1
 row 2 200000 frictional 2
 row 2 200000 frictional 1 "--precision float"
+row 2 200000 frictional 1 --no-energy
+row 2 200000 frictional 1 --shuffle
+row 2 200000 frictional 1 "--shuffle --sort"
 row 3 12500 frictional 1
 row 3 100000 frictional 1
 row 3 100000 frictional 2
 row 3 100000 frictional 1 "--precision float"
+row 3 100000 frictional 1 --no-energy
+row 3 100000 frictional 1 --shuffle
+row 3 100000 frictional 1 "--shuffle --sort"

@@ -16,6 +16,7 @@
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/brute_force.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
+#include "micromacro/neighbors/spatial_order.hpp"
 #include "micromacro/particles/particles.hpp"
 #include "micromacro/walls/walls.hpp"
 #include "micromacro/averaging/micro_macro.hpp"

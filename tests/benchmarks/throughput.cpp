@@ -16,6 +16,8 @@
 
 #include <chrono>
 #include <cstdio>
+#include <algorithm>
+#include <numeric>
 #include <random>
 #include <string>
 #include <vector>
@@ -40,6 +42,7 @@ struct Options {
     int threads = 1;
     std::string precision = "double";
     bool track_energy = true;
+    bool shuffle = false, sort = false;
 };
 
 double peak_rss_bytes() {
@@ -85,6 +88,16 @@ int run(const Options& o, const Law& law, const char* law_name) {
         for (int a = 0; a < dim; ++a) lo[a] = o.box[2 * a], hi[a] = o.box[2 * a + 1];
         domain = mm::Domain<dim>(lo, hi, periodic);
     }
+    if (o.shuffle) {  // the particles in random order, as random placement or a long flow leaves them
+        std::vector<std::size_t> perm(x.size());
+        std::iota(perm.begin(), perm.end(), std::size_t{0});
+        std::shuffle(perm.begin(), perm.end(), std::mt19937_64(2));
+        std::vector<mm::Vec<dim>> xs(x.size());
+        std::vector<double> rs(r.size());
+        for (std::size_t i = 0; i < perm.size(); ++i) xs[i] = x[perm[i]], rs[i] = r[perm[i]];
+        x.swap(xs);
+        r.swap(rs);
+    }
     mm::BasicSimulation<dim, Real, Law> sim(law, domain);
     sim.set_threads(o.threads);
     sim.set_track_energy(o.track_energy);
@@ -93,8 +106,9 @@ int run(const Options& o, const Law& law, const char* law_name) {
     for (std::size_t i = 0; i < x.size(); ++i) sim.particles().add(x[i], r[i], mm::sphere_mass(rho, r[i]));
     if (o.shear) {
         const double rate = 1.0;  // 1/s: slow against 1/t_c ~ 5e4/s
-        for (std::size_t i = 0; i < x.size(); ++i) sim.particles().velocity()[i][0] = rate * (x[i][dim - 1] - domain.lo()[dim - 1]);
+        for (std::size_t i = 0; i < x.size(); ++i) sim.particles().velocity()[i][0] = rate * (sim.particles().position()[i][dim - 1] - domain.lo()[dim - 1]);
     }
+    if (o.sort) sim.sort_spatially();
     const double mean_mass = mm::sphere_mass(rho, 1e-3);
     sim.set_time_step(mm::contact_duration(o.k, 0.1, 0.5 * mean_mass) / 50);
     sim.prepare();
@@ -153,6 +167,8 @@ int main(int argc, char** argv) {
     app.add_option("--kt", o.kt, "tangential stiffness (N/m)")->capture_default_str();
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
     app.add_option("--threads", o.threads, "threads (OpenMP)")->capture_default_str();
+    app.add_flag("--shuffle", o.shuffle, "number the particles in random order first");
+    app.add_flag("--sort", o.sort, "renumber the particles along a space-filling curve (sort_spatially) before timing");
     app.add_flag("!--no-energy", o.track_energy, "switch the energy books off (on by default, as in the examples)");
     app.add_option("--precision", o.precision, "storage precision of the particle state: double or float")
         ->check(CLI::IsMember({"double", "float"}))

@@ -2,7 +2,9 @@
 // Candidate contacts (pairs within reach after the last neighbour search) with their typed
 // per-contact history. Pairs are kept sorted by (i, j) so a rebuild can carry each surviving
 // pair's history over by one merge pass; a pair that leaves the list loses its history.
+#include <algorithm>
 #include <cstdint>
+#include <utility>
 #include <type_traits>
 #include <vector>
 
@@ -45,6 +47,32 @@ public:
         }
         pairs_.swap(next_);
         next_.clear();
+    }
+
+    /// Renumbers the particles: particle i becomes new_index[i], in the partner too when the
+    /// partners are particles. A pair whose order flips is turned round (i < j again) with its
+    /// history seen from the other partner; the list is sorted again.
+    void renumber(const std::vector<Index>& new_index, bool partners_are_particles) {
+        std::vector<std::pair<IndexPair, std::size_t>> moved(pairs_.size());  // new pair, old slot
+        std::vector<bool> turned(pairs_.size(), false);
+        for (std::size_t c = 0; c < pairs_.size(); ++c) {
+            IndexPair p{new_index[pairs_[c].i], partners_are_particles ? new_index[pairs_[c].j] : pairs_[c].j};
+            if (partners_are_particles && p.j < p.i) {
+                std::swap(p.i, p.j);
+                turned[c] = true;
+            }
+            moved[c] = {p, c};
+        }
+        std::sort(moved.begin(), moved.end(), [](const auto& a, const auto& b) { return a.first < b.first; });
+        if constexpr (has_history) {
+            std::vector<History> history(pairs_.size());
+            for (std::size_t c = 0; c < moved.size(); ++c) {
+                const std::size_t old = moved[c].second;
+                history[c] = turned[old] ? seen_from_partner(history_[old]) : history_[old];
+            }
+            history_.swap(history);
+        }
+        for (std::size_t c = 0; c < moved.size(); ++c) pairs_[c] = moved[c].first;
     }
 
     template <class Archive>

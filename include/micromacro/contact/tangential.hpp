@@ -39,6 +39,15 @@ struct TangentialSpring {
     bool sliding = false;                ///< Coulomb state, for the static/dynamic hysteresis
 };
 
+/// A contact's history as its other partner sees it, for when particles are renumbered and a
+/// pair's two particles swap roles: the spring is odd under the swap (the relative velocity it
+/// integrates and the force it gives change sign), the sliding state is shared.
+inline NoHistory seen_from_partner(NoHistory h) { return h; }
+template <int dim>
+TangentialSpring<dim> seen_from_partner(const TangentialSpring<dim>& h) {
+    return {Vec<dim>(-h.spring), h.sliding};
+}
+
 class CundallStrack {
 public:
     static constexpr bool has_history = true;
