@@ -174,7 +174,6 @@ public:
             radii.push_back(a);
             p.add(x, a, mm::sphere_mass(c_.density, a));
         }
-        sim_.sort_spatially();  // the placement order is random; neighbours in memory run faster
         auto& walls = sim_.walls();
         for (int k = 0; k < dim; ++k) {
             walls.add_axis_aligned(k, true, 0.0).frictionless = !c_.wall_friction;
