@@ -338,10 +338,11 @@ public:
             [[maybe_unused]] A wi = zero_angular<dim, double>();
             if constexpr (rotation) wi = convert<double>(w[i]);
             if constexpr (Integrator::keeps_previous_forces) {
-                if (h_closing != 0.0) {  // kick_force_change(h_closing), the same arithmetic (double only)
-                    vi += (h_closing * double(inv_m[i])) * (fi - convert<double>(f_old[i]));
+                if (h_closing != 0.0) {  // kick_force_change(h_closing) (double only, see above)
+                    vi = force_change_kick(vi, h_closing * double(inv_m[i]), fi, convert<double>(f_old[i]));
                     if constexpr (rotation)
-                        wi += (h_closing * double(inv_I[i])) * (convert<double>(torque[i]) - convert<double>(torque_old[i]));
+                        wi = force_change_kick(wi, h_closing * double(inv_I[i]), convert<double>(torque[i]),
+                                               convert<double>(torque_old[i]));
                 }
                 f_old[i] = SV::Zero();  // becomes the force array at the next compute_forces()
                 if constexpr (rotation) torque_old[i] = zero_angular<dim, Real>();
@@ -396,10 +397,19 @@ public:
         const std::size_t n = particles_.size();
         MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
         for (std::size_t i = 0; i < n; ++i) {
-            v[i] = convert<Real>(V(convert<double>(v[i]) + (h * double(inv_m[i])) * (convert<double>(f[i]) - convert<double>(f_old[i]))));
+            v[i] = convert<Real>(force_change_kick(convert<double>(v[i]), h * double(inv_m[i]), convert<double>(f[i]),
+                                                   convert<double>(f_old[i])));
             if constexpr (rotation)
-                w[i] = convert<Real>(A(convert<double>(w[i]) + (h * double(inv_I[i])) * (convert<double>(torque[i]) - convert<double>(torque_old[i]))));
+                w[i] = convert<Real>(force_change_kick(convert<double>(w[i]), h * double(inv_I[i]), convert<double>(torque[i]),
+                                                       convert<double>(torque_old[i])));
         }
+    }
+
+    // v + h/m (F - F_old), or its rotational twin: the one formula of kick_force_change and of
+    // the closing kick merged into kick_drift_kick, so the two give the same bits.
+    template <class U>
+    MICROMACRO_INLINE static U force_change_kick(const U& v, double h_over_mass, const U& now, const U& before) {
+        return U(v + h_over_mass * (now - before));
     }
 
     void compute_forces() {
@@ -652,8 +662,7 @@ private:
             const double dist = std::sqrt(dist_sq);
             const V n = d * (1.0 / dist);
             const V dv = convert<double>(v[i]) - convert<double>(v[j]);
-            V vr = dv;  // Eq. 25: v_i - v_j + a_i n x w_i + a_j n x w_j
-            if constexpr (rotation) vr += T::cross(n, A(ri * convert<double>(w[i]) + rj * convert<double>(w[j])));
+            const V vr = relative_velocity(n, dv, w, i, j, ri, rj);
             History* h = nullptr;
             if constexpr (has_tangential) h = history + c;
             const Response resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
@@ -797,18 +806,20 @@ private:
         }
     }
 
-    // v_ij of Eq. 25: relative velocity of the contact points, v_i - v_j + a_i n x w_i + a_j n x w_j.
-    V relative_velocity(Index i, Index j, const V& n, const V& dv) const {
-        if constexpr (rotation) {
-            const auto& w = particles_.template get<field::AngularVelocity>();
-            const auto& r = particles_.radius();
-            return dv + T::cross(n, A(double(r[i]) * convert<double>(w[i]) + double(r[j]) * convert<double>(w[j])));
-        } else {
-            return dv;
-        }
+    // v_ij of Eq. 25: relative velocity of the contact points, v_i - v_j + a_i n x w_i + a_j n x w_j,
+    // from dv = v_i - v_j and the angular velocities w (unused without rotation). Static on raw
+    // arrays for the pair loop (see pair_forces); analysis calls the member below.
+    MICROMACRO_INLINE static V relative_velocity(const V& n, const V& dv, [[maybe_unused]] const SA* w, [[maybe_unused]] Index i,
+                                                 [[maybe_unused]] Index j, [[maybe_unused]] double ri, [[maybe_unused]] double rj) {
+        if constexpr (rotation) return dv + T::cross(n, A(ri * convert<double>(w[i]) + rj * convert<double>(w[j])));
+        else return dv;
     }
     V relative_velocity(Index i, Index j, const V& n) const {
-        return relative_velocity(i, j, n, V(convert<double>(particles_.velocity()[i]) - convert<double>(particles_.velocity()[j])));
+        const SA* w = nullptr;
+        if constexpr (rotation) w = particles_.template get<field::AngularVelocity>().data();
+        const auto& v = particles_.velocity();
+        const auto& r = particles_.radius();
+        return relative_velocity(n, V(convert<double>(v[i]) - convert<double>(v[j])), w, i, j, r[i], r[j]);
     }
     template <class W>
     V wall_relative_velocity(Index i, const W& wall) const {

@@ -30,8 +30,9 @@ struct VelocityVerlet {
         s.compute_forces();             // a_{n+1}
         s.kick_force_change(0.5 * dt);  // v_{n+1} = v_{n+1/2} + dt/2 a_{n+1}
     }
-    /// `steps` steps with each closing kick merged into the next step's pass: two passes over
-    /// the particles per step instead of three, the same arithmetic.
+    /// `steps` steps with each closing kick merged into the next step's pass (which also clears
+    /// the force array): two passes over the particles per step instead of four, the same
+    /// arithmetic.
     template <class Stages>
     void run(Stages& s, double dt, std::size_t steps) const {
         for (std::size_t k = 0; k < steps; ++k) {
