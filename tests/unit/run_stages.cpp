@@ -10,34 +10,9 @@ using namespace mmtest;
 
 namespace {
 template <int dim, class Real, class Integrator>
-auto shaken_packing() {
-    const std::size_t n = 300;
-    const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / 0.6, 1.0 / dim);
-    auto p = random_packing<dim>(n, 0.5e-3, 1.5e-3, L, 5, true, true);
-    std::array<bool, dim> periodic;
-    for (int a = 0; a < dim; ++a) periodic[a] = a < dim - 1;
-    mm::Walls<dim> walls;
-    walls.add_axis_aligned(dim - 1, true, 0.0);
-    walls.add_axis_aligned(dim - 1, false, L);
-    for (auto& x : p.x) x[dim - 1] = 2e-3 + (L - 4e-3) * x[dim - 1] / L;
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.02, 0.5)};
-    mm::BasicSimulation<dim, Real, mm::FrictionalLinear, mm::Walls<dim>, Integrator> sim(
-        law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), walls);
-    sim.allow_coarse_positions(true);
-    std::mt19937_64 rng(3);
-    std::normal_distribution<double> N(0.0, 0.3);
-    for (std::size_t i = 0; i < p.x.size(); ++i) {
-        sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(rho, p.r[i]));
-        for (int a = 0; a < dim; ++a) sim.particles().velocity()[i][a] = static_cast<Real>(N(rng));
-    }
-    sim.set_time_step(mm::contact_duration(k, gamma0, mm::sphere_mass(rho, 0.5e-3) / 2) / 50);
-    return sim;
-}
-
-template <int dim, class Real, class Integrator>
 void check_run_equals_steps() {
-    auto stepped = shaken_packing<dim, Real, Integrator>();
-    auto ran = shaken_packing<dim, Real, Integrator>();
+    auto stepped = shaken_walled_packing<dim, Real, Integrator>(300, 5, 0.3);
+    auto ran = shaken_walled_packing<dim, Real, Integrator>(300, 5, 0.3);
     const std::size_t steps = 2000;
     for (std::size_t s = 0; s < steps; ++s) stepped.step();
     ran.run(steps / 2);  // two runs: the second starts from a completed step

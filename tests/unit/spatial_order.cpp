@@ -15,25 +15,7 @@ using namespace mmtest;
 namespace {
 template <int dim>
 auto shaken_packing() {
-    const std::size_t n = 2000;
-    const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / 0.6, 1.0 / dim);
-    auto p = random_packing<dim>(n, 0.5e-3, 1.5e-3, L, 7, true, true);
-    std::array<bool, dim> periodic;
-    for (int a = 0; a < dim; ++a) periodic[a] = a < dim - 1;
-    mm::Walls<dim> walls;
-    walls.add_axis_aligned(dim - 1, true, 0.0);
-    walls.add_axis_aligned(dim - 1, false, L);
-    for (auto& x : p.x) x[dim - 1] = 2e-3 + (L - 4e-3) * x[dim - 1] / L;
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.02, 0.5)};
-    mm::Simulation<dim, mm::FrictionalLinear, mm::Walls<dim>> sim(
-        law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), walls);
-    std::mt19937_64 rng(3);
-    std::normal_distribution<double> N(0.0, 0.3);
-    for (std::size_t i = 0; i < p.x.size(); ++i) {
-        sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(rho, p.r[i]));
-        for (int a = 0; a < dim; ++a) sim.particles().velocity()[i][a] = N(rng);
-    }
-    sim.set_time_step(mm::contact_duration(k, gamma0, mm::sphere_mass(rho, 0.5e-3) / 2) / 50);
+    auto sim = shaken_walled_packing<dim>(2000, 7, 0.3);
     sim.run(500);  // contacts with loaded, partly sliding tangential springs
     return sim;
 }

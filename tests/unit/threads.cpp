@@ -9,28 +9,11 @@ using namespace mmtest;
 
 namespace {
 // A dense, moving frictional packing with walls on the last axis: contacts open, close and slide.
+// 4000 particles: 2000 per thread, fewer run serially (see active_threads).
 template <int dim>
 auto shaken_packing(int threads) {
-    const std::size_t n = 4000;  // 2000 per thread: fewer run serially (see active_threads)
-    const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / 0.6, 1.0 / dim);
-    auto p = random_packing<dim>(n, 0.5e-3, 1.5e-3, L, 11, true, true);
-    std::array<bool, dim> periodic;
-    for (int a = 0; a < dim; ++a) periodic[a] = a < dim - 1;
-    mm::Walls<dim> walls;
-    walls.add_axis_aligned(dim - 1, true, 0.0);
-    walls.add_axis_aligned(dim - 1, false, L);
-    for (auto& x : p.x) x[dim - 1] = 2e-3 + (L - 4e-3) * x[dim - 1] / L;  // inside the walls
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.02, 0.5)};
-    mm::Simulation<dim, mm::FrictionalLinear, mm::Walls<dim>> sim(
-        law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), walls);
-    std::mt19937_64 rng(3);
-    std::normal_distribution<double> N(0.0, 0.1);
-    for (std::size_t i = 0; i < p.x.size(); ++i) {
-        sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(rho, p.r[i]));
-        for (int a = 0; a < dim; ++a) sim.particles().velocity()[i][a] = N(rng);
-    }
+    auto sim = shaken_walled_packing<dim>(4000, 11, 0.1);
     sim.set_threads(threads);
-    sim.set_time_step(mm::contact_duration(k, gamma0, mm::sphere_mass(rho, 0.5e-3) / 2) / 50);
     sim.run(1000);
     BOOST_TEST_REQUIRE(sim.active_threads() == threads);
     return sim;
