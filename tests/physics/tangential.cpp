@@ -198,6 +198,47 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {
     BOOST_TEST(static_seen > 1000);
 }
 
+// The 2D law works on components along the tangent line (force_along_line), the 3D law on
+// vectors; a 2D contact embedded in the plane z = 0 of 3D must give the same force, spring,
+// sliding state and dissipation to round-off over long random histories (turning frames,
+// tensile spells, both friction states, both reversal cases).
+BOOST_AUTO_TEST_CASE(line_form_matches_vector_form) {
+    const mm::CundallStrack law(2e4, 0.02, 0.6, 0.4);
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> N(0.0, 1.0);
+    int sliding_seen = 0, static_seen = 0, dissipating = 0;
+    double worst = 0.0;
+    for (int trial = 0; trial < 500; ++trial) {
+        mm::TangentialSpring<2> h2;
+        mm::TangentialSpring<3> h3;
+        double angle = 6.0 * N(rng);
+        for (int step = 0; step < 100; ++step) {
+            angle += 0.05 * N(rng);
+            const double fn = 2.0 * std::abs(N(rng)) - 0.2, dt = 1e-5;
+            const mm::Vec<2> n2(std::cos(angle), std::sin(angle)), v2(0.5 * N(rng), 0.5 * N(rng));
+            const mm::Vec<3> n3(n2.x(), n2.y(), 0.0), v3(v2.x(), v2.y(), 0.0);
+            const auto f2 = law.force<2, true>(n2, v2, fn, dt, h2);
+            const auto f3 = law.force<3, true>(n3, v3, fn, dt, h3);
+            BOOST_TEST_REQUIRE(f2.sliding == f3.sliding);
+            BOOST_TEST_REQUIRE(h2.sliding == h3.sliding);
+            const double scale = 1.0 + std::abs(fn);
+            worst = std::max({worst, (f2.force - f3.force.head<2>()).norm() / scale,
+                              2e4 * (h2.spring - h3.spring.head<2>()).norm() / scale});
+            BOOST_TEST_REQUIRE(std::abs(f2.dissipated_viscous - f3.dissipated_viscous) <=
+                               1e-12 * (std::abs(f3.dissipated_viscous) + 1e-12 * scale * scale));
+            BOOST_TEST_REQUIRE(std::abs(f2.dissipated_sliding - f3.dissipated_sliding) <=
+                               1e-9 * (std::abs(f3.dissipated_sliding) + 1e-9 * scale * scale));
+            (f2.sliding ? sliding_seen : static_seen) += 1;
+            dissipating += f3.dissipated_sliding != 0.0;
+        }
+    }
+    BOOST_TEST_MESSAGE("largest force or spring-force difference over (1 + |f_n|): " << worst);
+    BOOST_TEST(worst < 1e-14);
+    BOOST_TEST(sliding_seen > 5000);
+    BOOST_TEST(static_seen > 5000);
+    BOOST_TEST(dissipating > 5000);
+}
+
 // Static/dynamic hysteresis: with mu_s > mu_d a sticking contact starts sliding only above
 // mu_s f_n and a sliding one sticks again only below mu_d f_n.
 BOOST_AUTO_TEST_CASE_TEMPLATE(static_and_dynamic_friction, D, Dims) {

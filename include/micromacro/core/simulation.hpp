@@ -6,6 +6,8 @@
 // one wall loop of `compute_forces()`. What a scene does not use is not compiled in: without a
 // tangential law there is no history and no rotation; with `NoWalls` there is no wall code.
 #include <algorithm>
+#include <array>
+#include <cstdint>
 #include <cmath>
 #include <limits>
 #include <tuple>
@@ -646,33 +648,63 @@ private:
         const Law law = law_;
         const double dt = dt_;
         EnergyBooks account = books;
-        for (std::size_t c = begin; c < end; ++c) {
-            const auto [i, j] = pair[c];
-            const V d = domain.separation(convert<double>(x[i]), convert<double>(x[j]));
-            const double dist_sq = d.squaredNorm();
-            const double ri = r[i], rj = r[j], reach = ri + rj;
-            if (dist_sq >= reach * reach) {
-                if constexpr (has_tangential) history[c] = History{};  // the contact opened
-                continue;
+        // Three passes per block of candidates: find the touching pairs (branch-free, the 20-30%
+        // of candidates that do not touch would otherwise be a badly predicted jump), take their
+        // square roots and reciprocals as Eigen packets, then compute their forces. The square
+        // root and division of each contact sat in one chain with its force and stalled the
+        // single loop (perf: a fifth of its samples); in packets they pipeline two (SSE2) or
+        // four (AVX) at a time. The arithmetic and the order of the sums are unchanged.
+        constexpr std::size_t block = 128;
+        std::array<std::uint32_t, block> touching;
+        [[maybe_unused]] std::array<std::uint32_t, block> opened;
+        std::array<V, block> separation;
+        std::array<double, block> separation_sq, distance, inverse_distance;
+        for (std::size_t b0 = begin; b0 < end; b0 += block) {
+            const std::size_t b1 = std::min(end, b0 + block);
+            std::size_t count = 0, open = 0;
+            for (std::size_t c = b0; c < b1; ++c) {
+                const auto [i, j] = pair[c];
+                const V d = domain.separation(convert<double>(x[i]), convert<double>(x[j]));
+                const double dist_sq = d.squaredNorm(), reach = double(r[i]) + double(r[j]);
+                const bool touches = dist_sq < reach * reach;
+                touching[count] = static_cast<std::uint32_t>(c - b0);
+                if constexpr (has_tangential) opened[open] = static_cast<std::uint32_t>(c - b0);
+                separation[count] = d;
+                separation_sq[count] = dist_sq;
+                count += touches;
+                open += !touches;
             }
-            if (dist_sq == 0.0) {
-                coincident = pair[c];
-                continue;
+            if constexpr (has_tangential)
+                for (std::size_t k = 0; k < open; ++k) history[b0 + opened[k]] = History{};  // the contact opened
+            {  // square roots and reciprocals two or four at a time (Eigen's packets)
+                using Column = Eigen::Array<double, Eigen::Dynamic, 1>;
+                Eigen::Map<Column> dist(distance.data(), count), inverse(inverse_distance.data(), count);
+                dist = Eigen::Map<const Column>(separation_sq.data(), count).sqrt();
+                inverse = dist.inverse();
             }
-            const double dist = std::sqrt(dist_sq);
-            const V n = d * (1.0 / dist);
-            const V dv = convert<double>(v[i]) - convert<double>(v[j]);
-            const V vr = relative_velocity(n, dv, w, i, j, ri, rj);
-            History* h = nullptr;
-            if constexpr (has_tangential) h = history + c;
-            const Response resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
-            const SV& stored = convert<Real>(resp.force);  // resp.force itself in double
-            f[i] += stored;
-            f[j] -= stored;
-            if constexpr (rotation) {
-                const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
-                torque[i] -= convert<Real>(A(ri * arm));
-                torque[j] -= convert<Real>(A(rj * arm));
+            for (std::size_t k = 0; k < count; ++k) {
+                const std::size_t c = b0 + touching[k];
+                const auto [i, j] = pair[c];
+                if (separation_sq[k] == 0.0) [[unlikely]] {
+                    coincident = pair[c];
+                    continue;
+                }
+                const double ri = r[i], rj = r[j], reach = ri + rj;
+                const double dist = distance[k];
+                const V n = separation[k] * inverse_distance[k];
+                const V dv = convert<double>(v[i]) - convert<double>(v[j]);
+                const V vr = relative_velocity(n, dv, w, i, j, ri, rj);
+                History* h = nullptr;
+                if constexpr (has_tangential) h = history + c;
+                const Response resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
+                const SV& stored = convert<Real>(resp.force);  // resp.force itself in double
+                f[i] += stored;
+                f[j] -= stored;
+                if constexpr (rotation) {
+                    const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
+                    torque[i] -= convert<Real>(A(ri * arm));
+                    torque[j] -= convert<Real>(A(rj * arm));
+                }
             }
         }
         books = account;
