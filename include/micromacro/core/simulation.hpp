@@ -584,8 +584,7 @@ public:
         std::size_t b = particles_.size() * particles_.bytes_per_particle() + pairs_.bytes() +
                         reference_.capacity() * sizeof(SV);
         if constexpr (has_walls) b += wall_contacts_.bytes();
-        for (const auto& a : thread_force_) b += a.capacity() * sizeof(SV);
-        for (const auto& a : thread_torque_) b += a.capacity() * sizeof(SA);
+        for (const auto& list : spills_) b += list.capacity() * sizeof(Spill);
         if constexpr (Integrator::keeps_previous_forces) {
             b += previous_force_.capacity() * sizeof(SV);
             if constexpr (rotation) b += previous_torque_.capacity() * sizeof(SA);
@@ -600,6 +599,14 @@ public:
     }
 
 private:
+    // What a thread's share of the pair loop owes a particle of a later thread (see pair_forces):
+    // subtracted from its force and torque, as the partner of a pair.
+    struct Spill {
+        Index particle;
+        SV force;
+        [[no_unique_address]] std::conditional_t<rotation, SA, NoHistory> torque;
+    };
+
     struct Response {
         V force;       // on i
         V tangential;  // tangential part of force, for the torques
@@ -635,7 +642,7 @@ private:
     // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
     template <bool track>
     void pair_forces(std::size_t begin, std::size_t end, SV* f, [[maybe_unused]] SA* torque, EnergyBooks& books,
-                     IndexPair& coincident) {
+                     IndexPair& coincident, Index owned_end, std::vector<Spill>& spill) {
         const SV* x = particles_.position().data();
         const SV* v = particles_.velocity().data();
         const Real* r = particles_.radius().data();
@@ -699,61 +706,68 @@ private:
                 const Response resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
                 const SV& stored = convert<Real>(resp.force);  // resp.force itself in double
                 f[i] += stored;
-                f[j] -= stored;
+                [[maybe_unused]] A arm{};
                 if constexpr (rotation) {
-                    const A arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
+                    arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
                     torque[i] -= convert<Real>(A(ri * arm));
-                    torque[j] -= convert<Real>(A(rj * arm));
+                }
+                if (j < owned_end) [[likely]] {
+                    f[j] -= stored;
+                    if constexpr (rotation) torque[j] -= convert<Real>(A(rj * arm));
+                } else {  // another thread's particle: added by its owner after the loop
+                    Spill& s = spill.emplace_back();
+                    s.particle = j;
+                    s.force = stored;
+                    if constexpr (rotation) s.torque = convert<Real>(A(rj * arm));
                 }
             }
         }
         books = account;
     }
 
-    // All pair forces, on threads_ threads: each takes an equal contiguous share of the
-    // candidates and adds into its own arrays (thread 0 into the particles'); then each sums a
-    // share of the particles over the threads in thread order and clears the thread arrays.
+    // All pair forces, on threads_ threads. The candidates are sorted by their first particle i;
+    // each thread takes a nearly equal contiguous share, cut where i changes, and so owns the
+    // particles from its first i to the next share's first i: it writes their forces directly.
+    // Only a partner j past its own particles (j > i, so it belongs to a later thread) goes into
+    // the thread's spill list, which the owner adds after the loop, threads in order. With
+    // particles in spatial order (sort_spatially) a share's partners lie close to it and the
+    // spill lists stay short. Bitwise the same for a fixed thread count.
     template <bool track>
     void pair_forces() {
         SV* f = particles_.template get<field::Force>().data();
         SA* torque = nullptr;
         if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
-        const std::size_t count = pairs_.size(), n = particles_.size();
+        const std::size_t count = pairs_.size();
+        const auto n = static_cast<Index>(particles_.size());
         const int shares = active_threads();
         thread_books_.assign(shares, EnergyBooks{});
         coincident_.assign(shares, IndexPair{0, 0});
+        spills_.resize(shares);
+        for (auto& list : spills_) list.clear();
         if (shares == 1) {
-            pair_forces<track>(0, count, f, torque, thread_books_[0], coincident_[0]);
+            pair_forces<track>(0, count, f, torque, thread_books_[0], coincident_[0], n, spills_[0]);
         } else {
-            thread_force_.resize(shares - 1);
-            for (auto& a : thread_force_) a.resize(n, SV::Zero());  // kept zero between calls
-            if constexpr (rotation) {
-                thread_torque_.resize(shares - 1);
-                for (auto& a : thread_torque_) a.resize(n, zero_angular<dim, Real>());
+            const IndexPair* pair = pairs_.pairs().data();
+            share_start_.assign(shares + 1, count);
+            share_start_[0] = 0;
+            for (int t = 1; t < shares; ++t) {
+                std::size_t c = std::max(share_start_[t - 1], detail::share_begin(count, t, shares));
+                while (c > 0 && c < count && pair[c].i == pair[c - 1].i) ++c;  // do not split a particle's run
+                share_start_[t] = c;
             }
+            auto first_particle = [&](int t) { return share_start_[t] < count ? pair[share_start_[t]].i : n; };
             MICROMACRO_OMP(omp parallel num_threads(shares)) {
                 const int t = detail::thread_number();
-                SV* own_f = t == 0 ? f : thread_force_[t - 1].data();
-                SA* own_torque = nullptr;
-                if constexpr (rotation) own_torque = t == 0 ? torque : thread_torque_[t - 1].data();
-                pair_forces<track>(detail::share_begin(count, t, shares), detail::share_begin(count, t + 1, shares),
-                                   own_f, own_torque, thread_books_[t], coincident_[t]);
+                const Index owned_begin = t == 0 ? 0 : first_particle(t), owned_end = t + 1 == shares ? n : first_particle(t + 1);
+                pair_forces<track>(share_start_[t], share_start_[t + 1], f, torque, thread_books_[t], coincident_[t],
+                                   owned_end, spills_[t]);
                 MICROMACRO_OMP(omp barrier)
-                const std::size_t i0 = detail::share_begin(n, t, shares), i1 = detail::share_begin(n, t + 1, shares);
-                for (int u = 1; u < shares; ++u) {
-                    SV* other = thread_force_[u - 1].data();
-                    for (std::size_t i = i0; i < i1; ++i) {
-                        f[i] += other[i];
-                        other[i] = SV::Zero();
+                for (int u = 0; u < t; ++u)
+                    for (const Spill& s : spills_[u]) {
+                        if (s.particle < owned_begin || s.particle >= owned_end) continue;
+                        f[s.particle] -= s.force;
+                        if constexpr (rotation) torque[s.particle] -= s.torque;
                     }
-                    if constexpr (rotation) {
-                        SA* other_torque = thread_torque_[u - 1].data();
-                        for (std::size_t i = i0; i < i1; ++i) {
-                            torque[i] += other_torque[i];
-                            other_torque[i] = zero_angular<dim, Real>();
-                        }
-                    }
-                }
             }
         }
         for (const IndexPair& c : coincident_)
@@ -956,10 +970,11 @@ private:
     ContactList<History> pairs_;
     [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
     std::vector<SV> reference_;
-    // Per-thread scratch of pair_forces() (threads 1..: force and torque arrays, kept zero).
+    // Per-thread scratch of pair_forces(): where each share starts, and what it adds to later
+    // threads' particles (see Spill).
     int threads_ = 1;
-    std::vector<std::vector<SV>> thread_force_;
-    std::vector<std::vector<SA>> thread_torque_;
+    std::vector<std::size_t> share_start_;
+    std::vector<std::vector<Spill>> spills_;
     std::vector<EnergyBooks> thread_books_;
     std::vector<IndexPair> coincident_;
     // Forces of the previous evaluation, for integrators that correct with the force change.
