@@ -157,6 +157,7 @@ public:
         std::mt19937_64 rng(c_.seed);
         std::uniform_real_distribution<double> U(0.0, 1.0);
         auto& p = sim_.particles();
+        p.reserve(c_.particles);
         std::vector<V> placed;
         std::vector<double> radii;
         // Random sequential placement; overlap checks against the particles placed so far.

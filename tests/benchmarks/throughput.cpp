@@ -103,10 +103,13 @@ int run(const Options& o, const Law& law, const char* law_name) {
     sim.set_track_energy(o.track_energy);
     sim.allow_coarse_positions(true);  // float cannot resolve these overlaps; here only the time counts
     const double rho = 2000.0;
+    sim.particles().reserve(x.size());
     for (std::size_t i = 0; i < x.size(); ++i) sim.particles().add(x[i], r[i], mm::sphere_mass(rho, r[i]));
+    std::vector<mm::Vec<dim>>().swap(x);  // the engine holds them now: peak memory is the engine's
+    std::vector<double>().swap(r);
     if (o.shear) {
         const double rate = 1.0;  // 1/s: slow against 1/t_c ~ 5e4/s
-        for (std::size_t i = 0; i < x.size(); ++i) sim.particles().velocity()[i][0] = rate * (sim.particles().position()[i][dim - 1] - domain.lo()[dim - 1]);
+        for (std::size_t i = 0; i < sim.particles().size(); ++i) sim.particles().velocity()[i][0] = rate * (sim.particles().position()[i][dim - 1] - domain.lo()[dim - 1]);
     }
     if (o.sort) sim.sort_spatially();
     const double mean_mass = mm::sphere_mass(rho, 1e-3);

@@ -26,6 +26,31 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(fields_by_name, D, Dims) {
                                  std::conditional_t<dim == 2, double, Eigen::Vector3d>>);
 }
 
+// reserve(n) makes room in every field: adding n particles then never reallocates (no
+// doubling, no two copies alive at once), with and without rotational fields.
+template <int dim, bool rotation>
+void check_reserve() {
+    mm::Particles<dim, rotation> p;
+    p.reserve(1000);
+    const auto* x = p.position().data();
+    const auto* r = p.radius().data();
+    const auto* inv_m = p.template get<mm::field::InverseMass>().data();
+    for (int i = 0; i < 1000; ++i) p.add(mm::Vec<dim>::Constant(i), 1e-3, 1.0);
+    BOOST_TEST(p.position().data() == x);
+    BOOST_TEST(p.radius().data() == r);
+    BOOST_TEST(p.template get<mm::field::InverseMass>().data() == inv_m);
+    BOOST_TEST(p.position().capacity() == 1000u);
+    BOOST_TEST(p.template get<mm::field::Force>().capacity() == 1000u);
+    if constexpr (rotation) {
+        BOOST_TEST(p.template get<mm::field::Torque>().capacity() == 1000u);
+        BOOST_TEST(p.template get<mm::field::InverseInertia>().capacity() == 1000u);
+    }
+}
+BOOST_AUTO_TEST_CASE_TEMPLATE(reserve_makes_room_in_every_field, D, Dims) {
+    check_reserve<D::value, false>();
+    check_reserve<D::value, true>();
+}
+
 BOOST_AUTO_TEST_CASE(scenes_store_only_what_they_use) {
     // No rotational arrays without rotation, no history without a tangential law, no wall lists
     // without walls.

@@ -87,6 +87,23 @@ public:
         return i;
     }
 
+    /// Room for n particles in every array, so that adding them one by one does not grow the
+    /// arrays by doubling (up to twice the memory, and both copies alive while one grows).
+    void reserve(std::size_t n) {
+        position_.reserve(n);
+        velocity_.reserve(n);
+        force_.reserve(n);
+        radius_.reserve(n);
+        mass_.reserve(n);
+        inverse_mass_.reserve(n);
+        if constexpr (with_rotation) {
+            angular_velocity_.reserve(n);
+            torque_.reserve(n);
+            inertia_.reserve(n);
+            inverse_inertia_.reserve(n);
+        }
+    }
+
     template <class Field>
     auto& get() { return select<Field>(*this); }
     template <class Field>
@@ -108,7 +125,7 @@ public:
         inverse_mass_[i] = static_cast<Real>(1.0 / mass);
     }
 
-    /// Bytes of particle storage per particle (capacity, all fields).
+    /// Bytes of particle storage per particle (all fields).
     std::size_t bytes_per_particle() const {
         std::size_t b = 3 * sizeof(V) + 3 * sizeof(Real);
         if constexpr (with_rotation) b += 2 * sizeof(A) + 2 * sizeof(Real);
