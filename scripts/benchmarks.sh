@@ -1,19 +1,19 @@
 #!/usr/bin/env bash
-# Regenerates the README's performance table: each case of tests/benchmarks/throughput run three
+# Regenerates the README's performance table: each case of tests/benchmarks/throughput run five
 # times, the median printed (the machines are shared and noisy). Needs a build.
-#   scripts/benchmarks.sh            # about 3 minutes on 2 cores
+#   scripts/benchmarks.sh            # about 2 minutes on 2 cores
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tp=${BUILD_DIR:-build}/tests/benchmarks/throughput
-median() { sort -g | sed -n 2p; }
-echo "| case | particles | contacts per particle | threads | particle-steps/s (median of 3) | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
+median() { sort -g | sed -n 3p; }
+echo "| case | particles | contacts per particle | threads | particle-steps/s (median of 5) | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
 echo "|---|---|---|---|---|---|---|---|"
 row() {  # dim particles law threads [extra]
   local dim=$1 n=$2 law=$3 threads=$4 extra=${5:-}
   local steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
   [ "$steps" -lt 20 ] && steps=20
   local runs=()
-  for _ in 1 2 3; do runs+=("$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json)"); done
+  for _ in 1 2 3 4 5; do runs+=("$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json)"); done
   local pps ns
   pps=$(printf '%s\n' "${runs[@]}" | grep -o '"particle_steps_per_second": [0-9.e+]*' | awk '{print $2}' | median)
   ns=$(printf '%s\n' "${runs[@]}" | grep -o '"ns_per_contact": [0-9.e+]*' | awk '{print $2}' | median)
