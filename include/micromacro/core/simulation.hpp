@@ -634,11 +634,12 @@ private:
         return out;
     }
 
-    // The one pair loop, over candidates [begin, end), adding into the arrays f and torque (the
-    // particles' own, or a thread's). Raw pointers and local copies of the law, the box and the
-    // energy account: through the members the compiler would reload them after every store to
-    // the forces. (Keeping i's values in registers over its run of partners was tried: more
-    // instructions and no faster, the loop then runs out of registers.)
+    // The one pair loop, over candidates [begin, end), adding into the particles' force and
+    // torque arrays f and torque; a partner at or past owned_end belongs to another thread and
+    // goes to `spill` instead (see pair_forces() below). Raw pointers and local copies of the
+    // law, the box and the energy account: through the members the compiler would reload them
+    // after every store to the forces. (Keeping i's values in registers over its run of
+    // partners was tried: more instructions and no faster, the loop runs out of registers.)
     // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
     template <bool track>
     void pair_forces(std::size_t begin, std::size_t end, SV* f, [[maybe_unused]] SA* torque, EnergyBooks& books,
