@@ -148,3 +148,22 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(blow_up_is_reported, D, Dims) {
     expect_error<mm::SimulationError>([&] { sim.run(100000); }, {"blew up at step", "particle 0", "reduce dt"});
     BOOST_TEST(sim.steps_done() < 100000u);
 }
+
+// A NaN that appears mid-run (here put into a velocity, as a user's own force or a bad restart
+// could) stops the run at the next step with the particle named, in a scene with contacts:
+// the pair loop counts a NaN pair as not touching, so the displacement check must catch it.
+BOOST_AUTO_TEST_CASE_TEMPLATE(nan_mid_run_is_reported, D, Dims) {
+    constexpr int dim = D::value;
+    using Law = mm::FrictionalLinear;
+    mm::Simulation<dim, Law> sim(Law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.02, 0.5)});
+    for (int p = 0; p < 3; ++p) {
+        mm::Vec<dim> x = mm::Vec<dim>::Zero();
+        x[0] = p * 1.99e-3;
+        sim.particles().add(x, 1e-3, mm::sphere_mass(rho, 1e-3));
+    }
+    sim.set_time_step(1e-7);
+    sim.run(10);
+    BOOST_TEST_REQUIRE(sim.contact_count() == 2u);
+    sim.particles().velocity()[1][0] = std::numeric_limits<double>::quiet_NaN();
+    expect_error<mm::SimulationError>([&] { sim.run(10); }, {"blew up at step 11", "particle 1", "reduce dt"});
+}

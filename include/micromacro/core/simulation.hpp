@@ -359,7 +359,10 @@ public:
             const SV stored = convert<Real>(xi);
             x[i] = stored;
             v[i] = convert<Real>(vi);
-            max_move_sq = std::max(max_move_sq, domain.separation(convert<double>(stored), convert<double>(reference[i])).squaredNorm());
+            const double move_sq = domain.separation(convert<double>(stored), convert<double>(reference[i])).squaredNorm();
+            // NaN counts as infinite: std::max (and the reduction) would drop it, and the pair
+            // loop treats a NaN pair as not touching, so nothing else would stop the run.
+            max_move_sq = std::max(max_move_sq, move_sq == move_sq ? move_sq : std::numeric_limits<double>::infinity());
             if constexpr (rotation) {
                 w[i] = convert<Real>(A(wi + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
                 if constexpr (!Integrator::keeps_previous_forces) torque[i] = zero_angular<dim, Real>();
