@@ -69,15 +69,12 @@ double mean_particle_volume(double a_min, double a_max) {
     return v;
 }
 
-/// A static, confined packing: n paper particles (radii 0.5-1.5 mm, mu = 0.5, restitution 0.3)
-/// placed at random with overlaps at volume fraction nu in a cube, then relaxed with background
-/// damping until the kinetic energy is below 1e-7 of the elastic energy. `walled_axes` last axes
-/// carry two walls each; the others are periodic.
 /// A dense frictional gas between two walls on the last axis (periodic on the others), n
 /// particles with radii 0.5-1.5 mm placed at random (seed), velocities normal with standard
 /// deviation `speed` in m/s, dt = t_c / 50 of the smallest pair: contacts open, close, slide and
-/// the neighbour lists are rebuilt. Not run yet. Float storage allows coarse positions.
-template <int dim, class Real = double, class Integrator = mm::VelocityVerlet>
+/// the neighbour lists are rebuilt. Not run yet. Float storage allows coarse positions. `Law`:
+/// the paper's frictional law (default) or FrictionlessLinear.
+template <int dim, class Real = double, class Integrator = mm::VelocityVerlet, class Law = mm::FrictionalLinear>
 auto shaken_walled_packing(std::size_t n, unsigned seed, double speed) {
     const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / 0.6, 1.0 / dim);
     auto p = random_packing<dim>(n, 0.5e-3, 1.5e-3, L, seed, true, true);
@@ -87,8 +84,11 @@ auto shaken_walled_packing(std::size_t n, unsigned seed, double speed) {
     walls.add_axis_aligned(dim - 1, true, 0.0);
     walls.add_axis_aligned(dim - 1, false, L);
     for (auto& x : p.x) x[dim - 1] = 2e-3 + (L - 4e-3) * x[dim - 1] / L;  // inside the walls
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.02, 0.5)};
-    mm::BasicSimulation<dim, Real, mm::FrictionalLinear, mm::Walls<dim>, Integrator> sim(
+    const Law law = [] {
+        if constexpr (Law::has_tangential) return Law{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.02, 0.5)};
+        else return Law{mm::LinearSpringDashpot(k, gamma0)};
+    }();
+    mm::BasicSimulation<dim, Real, Law, mm::Walls<dim>, Integrator> sim(
         law, mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L), periodic), walls);
     if constexpr (std::is_same_v<Real, float>) sim.allow_coarse_positions(true);
     std::mt19937_64 rng(3);
@@ -101,6 +101,10 @@ auto shaken_walled_packing(std::size_t n, unsigned seed, double speed) {
     return sim;
 }
 
+/// A static, confined packing: n paper particles (radii 0.5-1.5 mm, mu = 0.5, restitution 0.3)
+/// placed at random with overlaps at volume fraction nu in a cube, then relaxed with background
+/// damping until the kinetic energy is below 1e-7 of the elastic energy. `walled_axes` last axes
+/// carry two walls each; the others are periodic.
 template <int dim>
 auto relaxed_simulation(std::size_t n, double nu, unsigned seed, int walled_axes = 1, double mu = 0.5) {
     const double L = std::pow(n * mean_particle_volume<dim>(0.5e-3, 1.5e-3) / nu, 1.0 / dim);

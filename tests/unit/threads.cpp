@@ -55,6 +55,28 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(three_threads, D, Dims) {
     BOOST_TEST(worst < 1e-12);
     BOOST_TEST(std::abs(one.books().dissipated() / three.books().dissipated() - 1.0) < 1e-9);
 }
+
+// The frictionless scene (no torques, no springs: its spill entries carry a force only).
+BOOST_AUTO_TEST_CASE_TEMPLATE(frictionless_two_threads, D, Dims) {
+    constexpr int dim = D::value;
+    auto run = [](int threads) {
+        auto sim = shaken_walled_packing<dim, double, mm::VelocityVerlet, mm::FrictionlessLinear>(4000, 11, 0.1);
+        sim.set_threads(threads);
+        sim.run(300);
+        BOOST_TEST_REQUIRE(sim.active_threads() == threads);
+        return sim;
+    };
+    const auto one = run(1), two = run(2), again = run(2);
+    BOOST_TEST_REQUIRE(one.contact_count() > one.particles().size() / 2);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < one.particles().size(); ++i) {
+        BOOST_TEST_REQUIRE((two.particles().position()[i] == again.particles().position()[i]));
+        worst = std::max(worst, one.domain().separation(one.particles().position()[i], two.particles().position()[i]).norm());
+    }
+    BOOST_TEST_MESSAGE(dim << "D frictionless: largest position difference 1 vs 2 threads: " << worst << " m");
+    BOOST_TEST(worst < 1e-12);
+    BOOST_TEST(std::abs(one.books().dissipated() / two.books().dissipated() - 1.0) < 1e-9);
+}
 #else
 BOOST_AUTO_TEST_CASE(threads_need_openmp) {
     mm::Simulation<2, mm::FrictionlessLinear> sim(mm::FrictionlessLinear{mm::LinearSpringDashpot(k, gamma0)});
