@@ -1,5 +1,5 @@
-// sort_spatially(): renumbering the particles along a Morton curve brings partners close in
-// memory and changes no physics. Every contact keeps its force to the last bit (a pair whose
+// sort_spatially(): renumbering the particles in row order (spatial_order) brings partners close
+// in memory and changes no physics. Every contact keeps its force to the last bit (a pair whose
 // partners swap roles sees exactly the negated force, its tangential spring is negated), and
 // the run continues on the same trajectory up to the round-off of another summation order.
 #define BOOST_TEST_MODULE unit_spatial_order
@@ -20,7 +20,7 @@ auto shaken_packing() {
     return sim;
 }
 
-// The median over contacts of |i - j| (a Morton curve has a few long jumps, which dominate a mean).
+// The median over contacts of |i - j| (the jumps between rows and layers would dominate a mean).
 template <class Sim>
 double median_index_distance(const Sim& sim) {
     std::vector<double> d;

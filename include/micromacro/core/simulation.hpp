@@ -231,7 +231,7 @@ public:
         prepared_ = true;
     }
 
-    /// Renumbers the particles along a space-filling curve (see spatial_order) so that particles
+    /// Renumbers the particles in row order (see spatial_order) so that particles
     /// close in space are close in memory and the pair loop reuses the cache lines it loads:
     /// worth doing once after placing particles at random, and now and then in long flows.
     /// Every per-particle array, the contact lists with their histories and the neighbour-list

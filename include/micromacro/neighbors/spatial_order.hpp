@@ -1,8 +1,14 @@
 #pragma once
-// An order of the particles along a space-filling curve (Morton, or Z, order of cells about a
-// diameter wide): particles close in space get close indices, so the pair loop finds a
-// particle's partners in the cache lines it has just used. Random placement, deposition and
-// long flows scatter them otherwise (measured in tests/benchmarks/throughput --shuffle).
+// An order of the particles in which partners are close in memory: row order through cells
+// about a diameter wide, the box's shortest axis fastest, like the lines of a page. Random
+// placement, deposition and long flows scatter the particles otherwise (measured in
+// tests/benchmarks/throughput --shuffle). The pair loop, which goes through the particles in
+// order, then reads a particle's partners from a few sequential streams (its own row, the row
+// before, in 3D the layer before), which the hardware prefetches; a space-filling curve (Morton
+// order, used before) keeps partners as close but in an order no prefetcher follows, and ran
+// 25% (3D N = 100 000) to 40% (2D N = 200 000) slower after the same shuffle. A row or layer is
+// a few hundred particles here; with the shortest axes fastest, layers up to about 10^5
+// particles (N ~ 10^7 in 3D) stay within the caches.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -16,14 +22,6 @@
 namespace micromacro {
 
 namespace detail {
-// Spreads the low bits of v so that `dim` such values interleave: bit b moves to bit dim * b.
-template <int dim>
-std::uint64_t spread_bits(std::uint64_t v) {
-    std::uint64_t out = 0;
-    for (int b = 0; b < 64 / dim; ++b) out |= ((v >> b) & 1u) << (dim * b);
-    return out;
-}
-
 // Applies a permutation to every array it visits (an archive for serialize()): element k of
 // each becomes its element order[k]. Arrays of another length (not sized yet) are left alone.
 struct Permutation {
@@ -38,9 +36,10 @@ struct Permutation {
 };
 }  // namespace detail
 
-/// The permutation that sorts the particles along a Morton curve through cells `cell` wide
-/// (default: the largest diameter): `order[k]` is the particle that goes to index k. Ties
-/// (particles in one cell) keep their present order, so the result is deterministic.
+/// The permutation that sorts the particles in row order through cells `cell` wide (default:
+/// the largest diameter), the axes taken from the shortest extent (fastest) to the longest:
+/// `order[k]` is the particle that goes to index k. Ties (particles in one cell) keep their
+/// present order, so the result is deterministic.
 template <int dim, class Real>
 std::vector<Index> spatial_order(const std::vector<Vec<dim, Real>>& x, const std::vector<Real>& r, const Domain<dim>& domain,
                                  double cell = 0.0) {
@@ -49,12 +48,18 @@ std::vector<Index> spatial_order(const std::vector<Vec<dim, Real>>& x, const std
     std::iota(order.begin(), order.end(), Index{0});
     if (n < 2) return order;
     if (!(cell > 0.0)) cell = 2.0 * double(*std::max_element(r.begin(), r.end()));
-    std::array<double, dim> lo;
+    std::array<double, dim> lo, hi;
     for (int k = 0; k < dim; ++k) {
         lo[k] = domain.periodic(k) ? domain.lo()[k] : double(x[0][k]);
+        hi[k] = domain.periodic(k) ? domain.hi()[k] : double(x[0][k]);
         if (!domain.periodic(k))
-            for (const auto& p : x) lo[k] = std::min(lo[k], double(p[k]));
+            for (const auto& p : x) lo[k] = std::min(lo[k], double(p[k])), hi[k] = std::max(hi[k], double(p[k]));
     }
+    // rank[a]: the axis's place in the key, 0 for the fastest (shortest) axis; ties by axis number.
+    std::array<int, dim> axes, rank;
+    std::iota(axes.begin(), axes.end(), 0);
+    std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return hi[a] - lo[a] < hi[b] - lo[b]; });
+    for (int place = 0; place < dim; ++place) rank[axes[place]] = place;
     constexpr int bits = 64 / dim;  // per axis: 32 in 2D, 21 in 3D
     const double max_cell = std::ldexp(1.0, bits) - 1.0;
     std::vector<std::uint64_t> key(n);
@@ -62,7 +67,7 @@ std::vector<Index> spatial_order(const std::vector<Vec<dim, Real>>& x, const std
         std::uint64_t k = 0;
         for (int a = 0; a < dim; ++a) {
             const double c = std::clamp(std::floor((double(x[i][a]) - lo[a]) / cell), 0.0, max_cell);
-            k |= detail::spread_bits<dim>(static_cast<std::uint64_t>(c)) << a;
+            k |= static_cast<std::uint64_t>(c) << (bits * rank[a]);
         }
         key[i] = k;
     }
