@@ -7,6 +7,8 @@
 
 #include <algorithm>
 #include <map>
+#include <numeric>
+#include <random>
 
 #include "support/scenes.hpp"
 
@@ -90,4 +92,46 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(renumbering_keeps_every_contact_force_to_the_bit, 
     BOOST_TEST_MESSAGE(dim << "D: largest position difference after 500 more steps: " << worst << " m");
     BOOST_TEST(worst < 1e-12);  // radii 5e-4..1.5e-3 m
     BOOST_TEST(std::abs(sorted.books().dissipated() / kept.books().dissipated() - 1.0) < 1e-10);
+}
+
+// The order itself, exactly: a grid of particles in a box elongated differently along each axis
+// (extents 40, 7 and 3 spacings, the long axis first), numbered at random, comes out in row
+// order with the shortest axis fastest: particle k sits at grid index (k / (7 * 3), (k / 3) % 7,
+// k % 3) in 3D and (k / 7, k % 7) in 2D. Partners then lie 1, one row or one layer apart.
+BOOST_AUTO_TEST_CASE_TEMPLATE(row_order_runs_along_the_shortest_axis_first, D, Dims) {
+    constexpr int dim = D::value;
+    const std::array<int, 3> extent{40, 7, 3};
+    const double spacing = 2e-3, a = 0.45 * spacing;
+    std::vector<mm::Vec<dim>> x;
+    std::vector<double> r;
+    std::array<int, 3> g{0, 0, 0};
+    for (g[0] = 0; g[0] < extent[0]; ++g[0])
+        for (g[1] = 0; g[1] < extent[1]; ++g[1])
+            for (g[2] = 0; g[2] < (dim == 3 ? extent[2] : 1); ++g[2]) {
+                mm::Vec<dim> p;
+                // Off the grid by 0.1-0.2 spacings, except the first particle, which sets the cells'
+                // origin: every cell edge then lies clear of the particles.
+                for (int k = 0; k < dim; ++k) {
+                    const double s = std::sin(7.0 * double(x.size()) + k);
+                    p[k] = (g[k] + 0.25) * spacing + (x.empty() ? 0.0 : (0.1 + 0.1 * s * s) * spacing);
+                }
+                x.push_back(p);
+                r.push_back(a);
+            }
+    std::vector<std::size_t> shuffled(x.size());
+    std::iota(shuffled.begin(), shuffled.end(), std::size_t{0});
+    std::shuffle(shuffled.begin(), shuffled.end(), std::mt19937(5));
+    std::vector<mm::Vec<dim>> xs;
+    for (std::size_t s : shuffled) xs.push_back(x[s]);
+    const mm::Domain<dim> open;  // no periodic axes: the extents are the particles'
+    const std::vector<mm::Index> order = mm::spatial_order(xs, r, open, spacing);
+    std::size_t wrong = 0;
+    for (std::size_t k = 0; k < order.size(); ++k) {
+        const mm::Vec<dim>& p = xs[order[k]];
+        std::array<std::size_t, 3> expected{};
+        if constexpr (dim == 3) expected = {k / 21, (k / 3) % 7, k % 3};
+        else expected = {k / 7, k % 7, 0};
+        for (int c = 0; c < dim; ++c) wrong += static_cast<std::size_t>(std::floor(p[c] / spacing)) != expected[c];
+    }
+    BOOST_TEST(wrong == 0u);
 }
