@@ -128,9 +128,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(row_order_runs_along_the_shortest_axis_first, D, D
     std::size_t wrong = 0;
     for (std::size_t k = 0; k < order.size(); ++k) {
         const mm::Vec<dim>& p = xs[order[k]];
-        std::array<std::size_t, 3> expected{};
-        if constexpr (dim == 3) expected = {k / 21, (k / 3) % 7, k % 3};
-        else expected = {k / 7, k % 7, 0};
+        const std::size_t layer = extent[1], row = dim == 3 ? extent[2] : 1;  // grid points along the faster axes
+        const std::array<std::size_t, 3> expected{k / (layer * row), (k / row) % layer, k % row};
         for (int c = 0; c < dim; ++c) wrong += static_cast<std::size_t>(std::floor(p[c] / spacing)) != expected[c];
     }
     BOOST_TEST(wrong == 0u);
