@@ -332,10 +332,10 @@ public:
         // A local copy: the stores to x and v could alias the members, which the compiler would
         // then reload for every particle.
         const Domain<dim> domain = domain_;
-        double max_move_sq = 0.0;
+        double max_move_sq = 0.0, sum_move_sq = 0.0;
         // firstprivate: shared, the scalars and pointers would be read through the outlined
         // function's argument block for every particle (the stores to x, v, w may alias it).
-        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq)
+        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq) reduction(+ : sum_move_sq)
                            firstprivate(x, v, f, inv_m, w, torque, inv_I, f_old, torque_old, reference, domain, h_before, dt,
                                         h_after, h_closing) if (active_threads() > 1))
         for (std::size_t i = 0; i < n; ++i) {
@@ -364,13 +364,13 @@ public:
             x[i] = stored;
             v[i] = convert<Real>(vi);
             const double move_sq = domain.separation(convert<double>(stored), convert<double>(reference[i])).squaredNorm();
-            // NaN counts as infinite: std::max (and the reduction) would drop it, and the pair
-            // loop treats a NaN pair as not touching, so nothing else would stop the run. By
-            // value, not std::max: its reference result made GCC carry the maximum from particle
-            // to particle through memory (a load through a selected pointer, a sixth of this loop's
-            // samples in 3D).
-            const double move_or_inf = move_sq == move_sq ? move_sq : std::numeric_limits<double>::infinity();
-            max_move_sq = move_or_inf > max_move_sq ? move_or_inf : max_move_sq;
+            // The maximum drops a NaN, and the pair loop treats a NaN pair as not touching, so
+            // nothing else would stop the run: the sum catches NaN and infinity. (It replaced a
+            // NaN-to-infinity select per particle: 5% fewer instructions in this pass, 2D 1950
+            // 1.03-1.06x side by side. By value, not std::max: its reference result made GCC carry
+            // the maximum from particle to particle through memory.)
+            max_move_sq = move_sq > max_move_sq ? move_sq : max_move_sq;
+            sum_move_sq += move_sq;
             if constexpr (rotation) {
                 w[i] = convert<Real>(A(wi + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
                 if constexpr (!Integrator::keeps_previous_forces) torque[i] = zero_angular<dim, Real>();
@@ -378,7 +378,7 @@ public:
             if constexpr (!Integrator::keeps_previous_forces) f[i] = SV::Zero();  // read for the last time
         }
         accumulators_cleared_ = true;
-        if (!std::isfinite(max_move_sq)) report_blow_up();
+        if (!std::isfinite(sum_move_sq)) report_blow_up();
         double wall_move = 0.0;
         if constexpr (has_walls) {
             walls_.move(time_, dt, domain_);
