@@ -4,8 +4,10 @@
 #define BOOST_TEST_MODULE physics_averaging_exact
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <random>
 
 #include "support/scenes.hpp"
 
@@ -213,6 +215,51 @@ BOOST_AUTO_TEST_CASE(rattlers_are_found_iteratively) {
     BOOST_TEST(std::abs(all.coordination - 2.0 * 35 / 18) < 1e-12);  // every contact, every particle
     BOOST_TEST(std::abs(without.coordination - 4.0) < 1e-12);        // the lattice alone
     BOOST_TEST(without.contacts == 32u);
+}
+
+// The rattlers of a random overlapping packing against the definition applied literally: sweep
+// over the particles, removing any with fewer than dim + 1 contacts to particles not yet
+// removed, until a sweep removes none. The packing is loose enough (about dim + 1 contacts on
+// average) that removals cascade, which the check asserts too.
+BOOST_AUTO_TEST_CASE_TEMPLATE(rattlers_match_the_repeated_sweep, D, Dims) {
+    constexpr int dim = D::value;
+    for (unsigned seed = 1; seed <= 5; ++seed) {
+        mm::PackingSnapshot<dim> s;
+        const int n = 400;
+        const double L = 0.02;
+        s.domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
+        std::mt19937_64 rng(seed);
+        std::uniform_real_distribution<double> U(0.0, 1.0);
+        // Radii for a mean coordination of about dim + 1 at this number density.
+        const double a = dim == 2 ? 0.57e-3 : 1.55e-3;
+        for (int p = 0; p < n; ++p) {
+            mm::Vec<dim> x;
+            for (int d = 0; d < dim; ++d) x[d] = L * U(rng);
+            s.position.push_back(x);
+            s.radius.push_back(a * (0.8 + 0.4 * U(rng)));
+        }
+        mm::detect_contacts(s, k, 0.0);
+        std::vector<char> removed(n, 0);
+        std::size_t at_once = 0;  // rattlers before any removal
+        for (bool changed = true, first = true; changed; first = false) {
+            changed = false;
+            std::vector<int> count(n, 0);
+            for (const auto& c : s.contacts)
+                if (!removed[c.i] && !removed[c.j]) ++count[c.i], ++count[c.j];
+            for (int p = 0; p < n; ++p)
+                if (!removed[p] && count[p] < dim + 1) {
+                    removed[p] = 1;
+                    changed = true;
+                    at_once += first;
+                }
+        }
+        const auto rattler = mm::detail::find_rattlers(s);
+        const auto total = static_cast<std::size_t>(std::count(removed.begin(), removed.end(), 1));
+        BOOST_TEST(total > at_once);  // the removals cascaded
+        BOOST_TEST(total < std::size_t(n));  // and a load-bearing part remains
+        BOOST_TEST((rattler == removed), "seed " << seed << ": " << std::count(rattler.begin(), rattler.end(), 1)
+                                                  << " rattlers found, " << total << " by the sweep");
+    }
 }
 
 // The kinetic stress is 1/V sum m v (x) v over the particles inside; the sliding option removes

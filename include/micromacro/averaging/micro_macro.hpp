@@ -57,27 +57,45 @@ struct MicroMacro {
 
 namespace detail {
 /// Particles with fewer than dim + 1 contacts, removing them repeatedly (a removal can make a
-/// neighbour a rattler too).
+/// neighbour a rattler too). What remains is the largest set in which every particle keeps
+/// dim + 1 contacts (wall contacts count and walls are never removed), the same whatever the
+/// order of removal: a work list over the partners of each removed particle finds it in
+/// O(contacts). (Rescanning every contact for each rattler cost 2.5% of the paper's biaxial run.)
 template <int dim>
 std::vector<char> find_rattlers(const PackingSnapshot<dim>& s) {
-    std::vector<int> count(s.size(), 0);
+    const std::size_t n = s.size();
+    std::vector<int> count(n, 0);
+    std::vector<std::size_t> first(n + 1, 0);  // partners of p: partner[first[p] .. first[p + 1])
     for (const auto& c : s.contacts) {
         ++count[c.i];
-        if (!c.wall) ++count[c.j];
+        if (!c.wall) {
+            ++count[c.j];
+            ++first[c.i + 1];
+            ++first[c.j + 1];
+        }
     }
-    std::vector<char> rattler(s.size(), 0);
-    for (bool changed = true; changed;) {
-        changed = false;
-        for (std::size_t p = 0; p < s.size(); ++p)
-            if (!rattler[p] && count[p] < dim + 1) {
-                rattler[p] = 1;
-                changed = true;
-                for (const auto& c : s.contacts) {
-                    if (c.i == p && !c.wall && !rattler[c.j]) --count[c.j];
-                    if (!c.wall && c.j == p && !rattler[c.i]) --count[c.i];
-                }
+    for (std::size_t p = 0; p < n; ++p) first[p + 1] += first[p];
+    std::vector<std::size_t> partner(first[n]), fill(first.begin(), first.end() - 1);
+    for (const auto& c : s.contacts)
+        if (!c.wall) {
+            partner[fill[c.i]++] = c.j;
+            partner[fill[c.j]++] = c.i;
+        }
+    std::vector<char> rattler(n, 0);
+    std::vector<std::size_t> removed;  // marked when found, their partners' counts lowered in turn
+    for (std::size_t p = 0; p < n; ++p)
+        if (count[p] < dim + 1) {
+            rattler[p] = 1;
+            removed.push_back(p);
+        }
+    for (std::size_t k = 0; k < removed.size(); ++k)
+        for (std::size_t e = first[removed[k]]; e < first[removed[k] + 1]; ++e) {
+            const std::size_t q = partner[e];
+            if (!rattler[q] && --count[q] < dim + 1) {
+                rattler[q] = 1;
+                removed.push_back(q);
             }
-    }
+        }
     return rattler;
 }
 
