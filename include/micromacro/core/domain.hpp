@@ -12,6 +12,7 @@
 
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/inline.hpp"
 
 namespace micromacro {
 
@@ -63,7 +64,7 @@ public:
     }
 
     /// Separation a - b, shortened to the nearest periodic image on periodic axes.
-    V separation(const V& a, const V& b) const {
+    MICROMACRO_INLINE V separation(const V& a, const V& b) const {
         V d = a - b;
         // Wrapped positions differ by less than L, so the image is needed only past half a box
         // length: one compare per axis (half_ is infinite on open axes), and the rare case out of
@@ -74,7 +75,7 @@ public:
     }
 
     /// Maps a position back into [lo, hi) on periodic axes; leaves open axes alone.
-    void wrap(V& x) const {
+    MICROMACRO_INLINE void wrap(V& x) const {
         for (int k = 0; k < dim; ++k)
             if (periodic_[k] && (x[k] < lo_[k] || x[k] >= hi_[k])) {  // inside: nothing to do (the usual case)
                 const double L = hi_[k] - lo_[k];
