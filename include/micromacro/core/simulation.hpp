@@ -587,7 +587,8 @@ private:
     // after every store to the forces. (Keeping i's values in registers over its run of
     // partners was tried: more instructions and no faster, the loop runs out of registers.)
     // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
-    template <bool track>
+    // `periodic`: whether the box has a periodic axis (else separations are plain differences).
+    template <bool track, bool periodic>
     void pair_forces(std::size_t begin, std::size_t end, SV* f, [[maybe_unused]] SA* torque, EnergyBooks& books,
                      IndexPair& coincident, Index owned_end, std::vector<Spill>& spill) {
         const SV* x = particles_.position().data();
@@ -618,7 +619,8 @@ private:
             std::size_t count = 0, open = 0;
             for (std::size_t c = b0; c < b1; ++c) {
                 const auto [i, j] = pair[c];
-                const V d = domain.separation(convert<double>(x[i]), convert<double>(x[j]));
+                const V d = periodic ? domain.separation(convert<double>(x[i]), convert<double>(x[j]))
+                                     : V(convert<double>(x[i]) - convert<double>(x[j]));
                 const double dist_sq = d.squaredNorm(), reach = double(r[i]) + double(r[j]);
                 const bool touches = dist_sq < reach * reach;
                 touching[count] = static_cast<std::uint32_t>(c - b0);
@@ -687,12 +689,15 @@ private:
         const std::size_t count = pairs_.size();
         const auto n = static_cast<Index>(particles_.size());
         const int shares = active_threads();
+        // Without periodic axes the separations need no minimum-image test (see kick_drift_kick).
+        const bool periodic = domain_.any_periodic();
         thread_books_.assign(shares, EnergyBooks{});
         coincident_.assign(shares, IndexPair{0, 0});
         spills_.resize(shares);
         for (auto& list : spills_) list.clear();
         if (shares == 1) {
-            pair_forces<track>(0, count, f, torque, thread_books_[0], coincident_[0], n, spills_[0]);
+            if (periodic) pair_forces<track, true>(0, count, f, torque, thread_books_[0], coincident_[0], n, spills_[0]);
+            else pair_forces<track, false>(0, count, f, torque, thread_books_[0], coincident_[0], n, spills_[0]);
         } else {
             const IndexPair* pair = pairs_.pairs().data();
             share_start_.assign(shares + 1, count);
@@ -706,8 +711,12 @@ private:
             MICROMACRO_OMP(omp parallel num_threads(shares)) {
                 const int t = detail::thread_number();
                 const Index owned_begin = t == 0 ? 0 : first_particle(t), owned_end = t + 1 == shares ? n : first_particle(t + 1);
-                pair_forces<track>(share_start_[t], share_start_[t + 1], f, torque, thread_books_[t], coincident_[t],
-                                   owned_end, spills_[t]);
+                if (periodic)
+                    pair_forces<track, true>(share_start_[t], share_start_[t + 1], f, torque, thread_books_[t], coincident_[t],
+                                             owned_end, spills_[t]);
+                else
+                    pair_forces<track, false>(share_start_[t], share_start_[t + 1], f, torque, thread_books_[t], coincident_[t],
+                                              owned_end, spills_[t]);
                 MICROMACRO_OMP(omp barrier)
                 for (int u = 0; u < t; ++u)
                     for (const Spill& s : spills_[u]) {
