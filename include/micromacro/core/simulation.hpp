@@ -309,7 +309,7 @@ public:
             h_closing = 0.0;
         }
         // Without periodic axes (a box of walls, like the biaxial test) the pass skips wrapping and
-        // minimum images: the same numbers, a tenth fewer instructions per particle in 2D.
+        // minimum images: the same numbers, a quarter fewer instructions in the pass (2D biaxial).
         const auto [max_move_sq, sum_move_sq] = domain_.any_periodic() ? kick_drift_pass<true>(h_before, dt, h_after, h_closing)
                                                                        : kick_drift_pass<false>(h_before, dt, h_after, h_closing);
         accumulators_cleared_ = true;
