@@ -689,15 +689,19 @@ private:
         const std::size_t count = pairs_.size();
         const auto n = static_cast<Index>(particles_.size());
         const int shares = active_threads();
-        // Without periodic axes the separations need no minimum-image test (see kick_drift_kick).
-        const bool periodic = domain_.any_periodic();
         thread_books_.assign(shares, EnergyBooks{});
         coincident_.assign(shares, IndexPair{0, 0});
         spills_.resize(shares);
         for (auto& list : spills_) list.clear();
+        // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
+        // axes the separations need no minimum-image test (see kick_drift_kick).
+        const bool periodic = domain_.any_periodic();
+        auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
+            if (periodic) pair_forces<track, true>(begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t]);
+            else pair_forces<track, false>(begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t]);
+        };
         if (shares == 1) {
-            if (periodic) pair_forces<track, true>(0, count, f, torque, thread_books_[0], coincident_[0], n, spills_[0]);
-            else pair_forces<track, false>(0, count, f, torque, thread_books_[0], coincident_[0], n, spills_[0]);
+            share(0, count, 0, n);
         } else {
             const IndexPair* pair = pairs_.pairs().data();
             share_start_.assign(shares + 1, count);
@@ -711,12 +715,7 @@ private:
             MICROMACRO_OMP(omp parallel num_threads(shares)) {
                 const int t = detail::thread_number();
                 const Index owned_begin = t == 0 ? 0 : first_particle(t), owned_end = t + 1 == shares ? n : first_particle(t + 1);
-                if (periodic)
-                    pair_forces<track, true>(share_start_[t], share_start_[t + 1], f, torque, thread_books_[t], coincident_[t],
-                                             owned_end, spills_[t]);
-                else
-                    pair_forces<track, false>(share_start_[t], share_start_[t + 1], f, torque, thread_books_[t], coincident_[t],
-                                              owned_end, spills_[t]);
+                share(share_start_[t], share_start_[t + 1], t, owned_end);
                 MICROMACRO_OMP(omp barrier)
                 for (int u = 0; u < t; ++u)
                     for (const Spill& s : spills_[u]) {
