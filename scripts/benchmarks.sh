@@ -1,21 +1,33 @@
 #!/usr/bin/env bash
 # Regenerates the README's performance table: each case of tests/benchmarks/throughput run five
-# times, the median printed (the machines are shared and noisy). Needs a build.
+# times, the median printed (the machines are shared and noisy). A two-thread case alternates with
+# the same case on one thread, and its speed-up is the median of the five back-to-back ratios
+# (not the ratio of two rows, taken minutes apart). Needs a build.
 #   scripts/benchmarks.sh            # about 2 minutes on 2 cores
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tp=${BUILD_DIR:-build}/tests/benchmarks/throughput
 median() { sort -g | sed -n 3p; }
-echo "| case | particles | contacts per particle | threads | particle-steps/s (median of 5) | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
-echo "|---|---|---|---|---|---|---|---|"
+pps() { grep -o '"particle_steps_per_second": [0-9.e+]*' | awk '{print $2}'; }
+echo "| case | particles | contacts per particle | threads | particle-steps/s (median of 5) | speed-up over one thread | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
+echo "|---|---|---|---|---|---|---|---|---|"
 row() {  # dim particles law threads [extra]
   local dim=$1 n=$2 law=$3 threads=$4 extra=${5:-}
   local steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
   [ "$steps" -lt 20 ] && steps=20
-  local runs=()
-  for _ in 1 2 3 4 5; do runs+=("$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json)"); done
+  local runs=() ratios=()
+  for k in 1 2 3 4 5; do
+    runs+=("$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json)")
+    if [ "$threads" -gt 1 ]; then  # the same case on one thread right after: the speed-up as a ratio taken together
+      local one
+      one=$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads 1 --steps "$steps" $extra --json | pps)
+      ratios+=("$(awk -v x="$(echo "${runs[$((k - 1))]}" | pps)" -v y="$one" 'BEGIN {print x / y}')")
+    fi
+  done
+  local speedup=""
+  [ "$threads" -gt 1 ] && speedup=$(printf '%s\n' "${ratios[@]}" | median | awk '{printf "%.2fx", $1}')
   local pps ns
-  pps=$(printf '%s\n' "${runs[@]}" | grep -o '"particle_steps_per_second": [0-9.e+]*' | awk '{print $2}' | median)
+  pps=$(printf '%s\n' "${runs[@]}" | pps | median)
   ns=$(printf '%s\n' "${runs[@]}" | grep -o '"ns_per_contact": [0-9.e+]*' | awk '{print $2}' | median)
   local first=${runs[0]}
   local contacts eng rss
@@ -30,8 +42,8 @@ row() {  # dim particles law threads [extra]
     *shuffle*) label=", particles in random order" ;;
     *no-energy*) label=", energy books off" ;;
   esac
-  printf '| %dD %s%s | %d | %.2f | %d | %.3g | %.1f | %.0f | %.0f |\n' "$dim" "$law" "$label" "$n" \
-    "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$pps" "$ns" "$eng" "$rss"
+  printf '| %dD %s%s | %d | %.2f | %d | %.3g | %s | %.1f | %.0f | %.0f |\n' "$dim" "$law" "$label" "$n" \
+    "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$pps" "$speedup" "$ns" "$eng" "$rss"
 }
 row 2 1950 frictionless 1
 row 2 1950 frictional 1
