@@ -1,22 +1,25 @@
 #!/usr/bin/env bash
-# Regenerates the README's performance table: each case of tests/benchmarks/throughput run five
-# times, the median printed (the machines are shared and noisy). A two-thread case alternates with
-# the same case on one thread, and its speed-up is the median of the five back-to-back ratios
-# (not the ratio of two rows, taken minutes apart). Needs a build.
-#   scripts/benchmarks.sh            # about 2 minutes on 2 cores
+# Regenerates the README's performance table: each case of tests/benchmarks/throughput run RUNS
+# times (default 9), the median printed (the machines are shared and noisy). A two-thread case
+# alternates with the same case on one thread, and its speed-up is the median of the back-to-back
+# ratios (not the ratio of two rows, taken minutes apart). Needs a build.
+#   scripts/benchmarks.sh            # about 4 minutes on 2 cores
+#   RUNS=5 scripts/benchmarks.sh     # about 2 minutes
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tp=${BUILD_DIR:-build}/tests/benchmarks/throughput
-median() { sort -g | sed -n 3p; }
+repeats=${RUNS:-9}
+[[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "benchmarks.sh: RUNS must be a positive whole number, not '$repeats'" >&2; exit 2; }
+median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
 pps() { grep -o '"particle_steps_per_second": [0-9.e+]*' | awk '{print $2}'; }
-echo "| case | particles | contacts per particle | threads | particle-steps/s (median of 5) | speed-up over one thread | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
+echo "| case | particles | contacts per particle | threads | particle-steps/s (median of $repeats) | speed-up over one thread | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
 echo "|---|---|---|---|---|---|---|---|---|"
 row() {  # dim particles law threads [extra]
   local dim=$1 n=$2 law=$3 threads=$4 extra=${5:-}
   local steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
   [ "$steps" -lt 20 ] && steps=20
   local runs=() ratios=()
-  for k in 1 2 3 4 5; do
+  for k in $(seq "$repeats"); do
     runs+=("$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json)")
     if [ "$threads" -gt 1 ]; then  # the same case on one thread right after: the speed-up as a ratio taken together
       local one
