@@ -1,69 +1,66 @@
 #!/usr/bin/env bash
-# Regenerates the README's performance table: each case of tests/benchmarks/throughput run RUNS
-# times (default 9), the median printed (the machines are shared and noisy). A two-thread case
-# alternates with the same case on one thread, and its speed-up is the median of the back-to-back
-# ratios (not the ratio of two rows, taken minutes apart). Needs a build.
-#   scripts/benchmarks.sh            # about 4 minutes on 2 cores
+# Regenerates the README's performance table from tests/benchmarks/throughput. The host is shared
+# and its speed drifts by tens of percent within minutes, so the cases are run round-robin, RUNS
+# rounds (default 9) of every case in turn, and each case's median is printed: a slow spell then
+# falls on all cases alike instead of on the few that happened to run in it. A two-thread case's
+# speed-up is the median over the rounds of its ratio to the one-thread run of the same case in the
+# same round. Needs a build.
+#   scripts/benchmarks.sh            # about 3 minutes on 2 cores
 #   RUNS=5 scripts/benchmarks.sh     # about 2 minutes
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tp=${BUILD_DIR:-build}/tests/benchmarks/throughput
+[ -x "$tp" ] || { echo "benchmarks.sh: no $tp; build first (scripts/setup.sh test)" >&2; exit 1; }
 repeats=${RUNS:-9}
 [[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "benchmarks.sh: RUNS must be a positive whole number, not '$repeats'" >&2; exit 2; }
+# dim particles law threads [extra options]
+cases=(
+  "2 1950 frictionless 1" "2 1950 frictional 1" "2 1950 frictional 1 --shear"
+  "2 20000 frictional 1" "2 20000 frictional 2"
+  "2 200000 frictionless 1" "2 200000 frictional 1" "2 200000 frictional 2"
+  "2 200000 frictional 1 --precision float" "2 200000 frictional 1 --no-energy"
+  "2 200000 frictional 1 --shuffle" "2 200000 frictional 1 --shuffle --sort"
+  "3 12500 frictional 1" "3 100000 frictional 1" "3 100000 frictional 2"
+  "3 100000 frictional 1 --precision float" "3 100000 frictional 1 --no-energy"
+  "3 100000 frictional 1 --shuffle" "3 100000 frictional 1 --shuffle --sort"
+)
+out=$(mktemp -d)
+trap 'rm -rf "$out"' EXIT
+for round in $(seq "$repeats"); do
+  for k in "${!cases[@]}"; do
+    read -r dim n law threads extra <<<"${cases[$k]}"
+    steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
+    [ "$steps" -lt 20 ] && steps=20
+    # shellcheck disable=SC2086  # extra holds several options
+    "$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json >>"$out/$k"
+  done
+  echo "round $round of $repeats done" >&2
+done
+field() { grep -o "\"$1\": [0-9.e+]*" "$2" | awk '{print $2}'; }
 median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
-pps() { grep -o '"particle_steps_per_second": [0-9.e+]*' | awk '{print $2}'; }
 echo "| case | particles | contacts per particle | threads | particle-steps/s (median of $repeats) | speed-up over one thread | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
 echo "|---|---|---|---|---|---|---|---|---|"
-row() {  # dim particles law threads [extra]
-  local dim=$1 n=$2 law=$3 threads=$4 extra=${5:-}
-  local steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
-  [ "$steps" -lt 20 ] && steps=20
-  local runs=() ratios=()
-  for k in $(seq "$repeats"); do
-    runs+=("$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json)")
-    if [ "$threads" -gt 1 ]; then  # the same case on one thread right after: the speed-up as a ratio taken together
-      local one
-      one=$("$tp" --dim "$dim" --particles "$n" --law "$law" --threads 1 --steps "$steps" $extra --json | pps)
-      ratios+=("$(awk -v x="$(echo "${runs[$((k - 1))]}" | pps)" -v y="$one" 'BEGIN {print x / y}')")
-    fi
-  done
-  local speedup=""
-  [ "$threads" -gt 1 ] && speedup=$(printf '%s\n' "${ratios[@]}" | median | awk '{printf "%.2fx", $1}')
-  local pps ns
-  pps=$(printf '%s\n' "${runs[@]}" | pps | median)
-  ns=$(printf '%s\n' "${runs[@]}" | grep -o '"ns_per_contact": [0-9.e+]*' | awk '{print $2}' | median)
-  local first=${runs[0]}
-  local contacts eng rss
-  contacts=$(echo "$first" | grep -o '"contacts": [0-9]*' | awk '{print $2}')
-  eng=$(echo "$first" | grep -o '"storage_bytes_per_particle": [0-9.]*' | awk '{print $2}')
-  rss=$(echo "$first" | grep -o '"bytes_per_particle": [0-9.]*' | awk '{print $2}')
-  local label=""
+for k in "${!cases[@]}"; do
+  read -r dim n law threads extra <<<"${cases[$k]}"
+  speedup=""
+  if [ "$threads" -gt 1 ]; then  # the one-thread case with the same options, round by round
+    for j in "${!cases[@]}"; do
+      [ "${cases[$j]}" = "$dim $n $law 1${extra:+ $extra}" ] || continue
+      speedup=$(paste <(field particle_steps_per_second "$out/$k") <(field particle_steps_per_second "$out/$j") |
+        awk '{print $1 / $2}' | median | awk '{printf "%.2fx", $1}')
+    done
+  fi
   case "$extra" in
     *shear*) label=" (shear)" ;;
     *float*) label=", float storage" ;;
     *shuffle*sort*) label=", shuffled then sort_spatially()" ;;
     *shuffle*) label=", particles in random order" ;;
     *no-energy*) label=", energy books off" ;;
+    *) label="" ;;
   esac
+  contacts=$(field contacts "$out/$k" | head -1)
   printf '| %dD %s%s | %d | %.2f | %d | %.3g | %s | %.1f | %.0f | %.0f |\n' "$dim" "$law" "$label" "$n" \
-    "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$pps" "$speedup" "$ns" "$eng" "$rss"
-}
-row 2 1950 frictionless 1
-row 2 1950 frictional 1
-row 2 1950 frictional 1 --shear
-row 2 20000 frictional 1
-row 2 20000 frictional 2
-row 2 200000 frictionless 1
-row 2 200000 frictional 1
-row 2 200000 frictional 2
-row 2 200000 frictional 1 "--precision float"
-row 2 200000 frictional 1 --no-energy
-row 2 200000 frictional 1 --shuffle
-row 2 200000 frictional 1 "--shuffle --sort"
-row 3 12500 frictional 1
-row 3 100000 frictional 1
-row 3 100000 frictional 2
-row 3 100000 frictional 1 "--precision float"
-row 3 100000 frictional 1 --no-energy
-row 3 100000 frictional 1 --shuffle
-row 3 100000 frictional 1 "--shuffle --sort"
+    "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$(field particle_steps_per_second "$out/$k" | median)" "$speedup" \
+    "$(field ns_per_contact "$out/$k" | median)" "$(field storage_bytes_per_particle "$out/$k" | head -1)" \
+    "$(field bytes_per_particle "$out/$k" | head -1)"
+done
