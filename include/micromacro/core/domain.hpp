@@ -74,6 +74,14 @@ public:
         return d;
     }
 
+    /// separation() where the caller has fixed at compile time whether the box has a periodic
+    /// axis (the engine's loops are compiled for both): without one, a plain difference.
+    template <bool any_periodic_axis>
+    MICROMACRO_INLINE V separation_for(const V& a, const V& b) const {
+        if constexpr (any_periodic_axis) return separation(a, b);
+        else return a - b;
+    }
+
     /// Maps a position back into [lo, hi) on periodic axes; leaves open axes alone.
     MICROMACRO_INLINE void wrap(V& x) const {
         for (int k = 0; k < dim; ++k)
