@@ -15,12 +15,12 @@ repeats=${RUNS:-9}
 [[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "benchmarks.sh: RUNS must be a positive whole number, not '$repeats'" >&2; exit 2; }
 # dim particles law threads [extra options]
 cases=(
-  "2 1950 frictionless 1" "2 1950 frictional 1" "2 1950 frictional 1 --shear"
+  "2 1950 frictionless 1" "2 1950 frictional-no-rotation 1" "2 1950 frictional 1" "2 1950 frictional 1 --shear"
   "2 20000 frictional 1" "2 20000 frictional 2"
-  "2 200000 frictionless 1" "2 200000 frictional 1" "2 200000 frictional 2"
+  "2 200000 frictionless 1" "2 200000 frictional-no-rotation 1" "2 200000 frictional 1" "2 200000 frictional 2"
   "2 200000 frictional 1 --precision float" "2 200000 frictional 1 --no-energy"
   "2 200000 frictional 1 --shuffle" "2 200000 frictional 1 --shuffle --sort"
-  "3 12500 frictional 1" "3 100000 frictional 1" "3 100000 frictional 2"
+  "3 12500 frictional 1" "3 100000 frictional-no-rotation 1" "3 100000 frictional 1" "3 100000 frictional 2"
   "3 100000 frictional 1 --precision float" "3 100000 frictional 1 --no-energy"
   "3 100000 frictional 1 --shuffle" "3 100000 frictional 1 --shuffle --sort"
 )
@@ -59,7 +59,7 @@ for k in "${!cases[@]}"; do
     *) label="" ;;
   esac
   contacts=$(field contacts "$out/$k" | head -1)
-  printf '| %dD %s%s | %d | %.2f | %d | %.3g | %s | %.1f | %.0f | %.0f |\n' "$dim" "$law" "$label" "$n" \
+  printf '| %dD %s%s | %d | %.2f | %d | %.3g | %s | %.1f | %.0f | %.0f |\n' "$dim" "${law/-no-rotation/ without rotation}" "$label" "$n" \
     "$(echo "2 * $contacts / $n" | bc -l)" "$threads" "$(field particle_steps_per_second "$out/$k" | median)" "$speedup" \
     "$(field ns_per_contact "$out/$k" | median)" "$(field storage_bytes_per_particle "$out/$k" | head -1)" \
     "$(field bytes_per_particle "$out/$k" | head -1)"

@@ -1,5 +1,7 @@
 // throughput: particle-steps per second, nanoseconds per contact and peak memory per particle of
 // the engine on a dense packing, static or under slow shear, or on a packing given as a file.
+// Laws: frictionless, frictional-no-rotation (Cundall-Strack springs on particles that do not
+// turn) and frictional (springs and rotation, the paper's law).
 //
 //   throughput --dim 2 --particles 20000 --law frictional --steps 2000
 //   throughput --packing packing.csv --box 0 0.1 0 0.1 --periodic x,z --k 1e5 --kt 2e4 --mu 0.5 --json
@@ -143,10 +145,15 @@ int run(const Options& o, const Law& law, const char* law_name) {
 template <int dim, class Real>
 int dispatch_law(const Options& o) {
     if (o.law == "frictionless") return run<dim, Real>(o, mm::FrictionlessLinear{mm::LinearSpringDashpot(o.k, 0.1)}, "frictionless");
+    if (o.law == "frictional-no-rotation")
+        return run<dim, Real>(o,
+                              mm::FrictionalLinearWithoutRotation{mm::LinearSpringDashpot(o.k, 0.1),
+                                                                  mm::CundallStrackWithoutRotation(o.kt, 0.02, o.mu)},
+                              "frictional-no-rotation");
     if (o.law == "frictional")
         return run<dim, Real>(o, mm::FrictionalLinear{mm::LinearSpringDashpot(o.k, 0.1), mm::CundallStrack(o.kt, 0.02, o.mu)},
                               "frictional");
-    mm::detail::throw_input_error("--law '", o.law, "' is unknown; use frictionless or frictional");
+    mm::detail::throw_input_error("--law '", o.law, "' is unknown; use frictionless, frictional-no-rotation or frictional");
 }
 
 template <int dim>
@@ -160,7 +167,11 @@ int main(int argc, char** argv) {
     CLI::App app{"Engine throughput: particle-steps per second, ns per contact, peak memory per particle"};
     app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     app.add_option("--particles", o.particles, "particles of the generated packing")->capture_default_str();
-    app.add_option("--law", o.law, "frictionless or frictional (with rotation)")->capture_default_str();
+    app.add_option("--law", o.law,
+                   "frictionless, frictional-no-rotation (tangential springs, particles do not turn) or frictional "
+                   "(tangential springs and rotation)")
+        ->check(CLI::IsMember({"frictionless", "frictional-no-rotation", "frictional"}))
+        ->capture_default_str();
     app.add_option("--steps", o.steps, "time steps to time")->capture_default_str();
     app.add_flag("--shear", o.shear, "start from a slow shear profile instead of rest");
     app.add_option("--packing", o.packing, "time this packing instead (CSV as analyze_packing reads)")->check(CLI::ExistingFile);

@@ -89,3 +89,16 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional, D, Dims) {
     BOOST_TEST(coarse.max_deviation < 1e-2);
     BOOST_TEST(coarse.max_deviation / fine.max_deviation > 1.7);  // first order (Eq. 27)
 }
+
+// Friction on particles that do not rotate: the same books close, with no rotational energy.
+BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional_without_rotation, D, Dims) {
+    const mm::FrictionalLinearWithoutRotation law{mm::LinearSpringDashpot(k, gamma0),
+                                                  mm::CundallStrackWithoutRotation(0.2 * k, 0.2 * gamma0, 0.5)};
+    const Run coarse = gas<D::value>(law, 50, 200, 1e-3);
+    const Run fine = gas<D::value>(law, 100, 200, 1e-3);
+    BOOST_TEST_MESSAGE(D::value << "D damped frictional without rotation: residual " << coarse.max_deviation
+                                << " at t_c/50, " << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
+    BOOST_TEST(coarse.dissipated > 0.3);
+    BOOST_TEST(coarse.max_deviation < 1e-2);
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 1.7);
+}

@@ -162,6 +162,91 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(tilted_wall_stick_slide_roll, D, Dims) {
     }
 }
 
+namespace {
+template <int dim>
+using NonRotatingScene = mm::Simulation<dim, mm::FrictionalLinearWithoutRotation, mm::Walls<dim>, mm::VelocityVerlet,
+                                        mm::BruteForce, mm::Gravity<dim>>;
+mm::FrictionalLinearWithoutRotation non_rotating_law() {
+    return {mm::LinearSpringDashpot(k, gamma0), mm::CundallStrackWithoutRotation(0.2 * k, 0.2 * gamma0, mu)};
+}
+}  // namespace
+
+// A particle that cannot rotate, launched along a frictional floor, slides: Coulomb friction
+// brakes it at mu g until it stops at t = v0 / (mu g), v0^2 / (2 mu g) from where it started, and
+// static friction then holds it (a particle that may rotate ends rolling at 5/7 v0 instead, see
+// above). Its kinetic energy goes into the books, almost all of it as sliding dissipation.
+BOOST_AUTO_TEST_CASE_TEMPLATE(non_rotating_particle_slides_to_rest, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    mm::Walls<dim> walls;
+    walls.add_axis_aligned(up, true, 0.0);
+    NonRotatingScene<dim> sim(non_rotating_law(), {}, walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+    mm::Vec<dim> x0 = mm::Vec<dim>::Zero();
+    x0[up] = a - m * g / k;  // resting overlap
+    sim.particles().add(x0, a, m);
+    mm::Vec<dim> v0 = 0.03 * unit<dim>(0);
+    if constexpr (dim == 3) v0 = mm::Vec<dim>(0.018, 0.024, 0.0);  // oblique in 3D, |v0| = 0.03
+    sim.particles().velocity()[0] = v0;
+    sim.set_time_step(wall_dt());
+    sim.prepare();
+    const double e0 = sim.energy().total();
+    const double stop_time = v0.norm() / (mu * g), distance = v0.squaredNorm() / (2 * mu * g);
+    // Half way through the braking: v = v0 / 2 along v0.
+    sim.run(static_cast<std::size_t>(0.5 * stop_time / sim.time_step()));
+    const double t_half = sim.time();
+    const mm::Vec<dim> v = sim.particles().velocity()[0];
+    const mm::Vec<dim> expected_v = v0 * (1.0 - t_half / stop_time);
+    BOOST_TEST_MESSAGE(dim << "D without rotation, at t = " << t_half << " s: v = " << v.transpose() << ", expected "
+                           << expected_v.transpose());
+    BOOST_TEST((v - expected_v).norm() < 1e-4 * v0.norm());
+    // Long after the stop: at rest where the braking distance puts it.
+    sim.run(static_cast<std::size_t>(2.0 * stop_time / sim.time_step()));
+    const mm::Vec<dim> x = sim.particles().position()[0];
+    BOOST_TEST_MESSAGE(dim << "D without rotation: travelled " << (x - x0).norm() << " m, expected " << distance << " m");
+    BOOST_TEST(std::abs((x - x0).norm() / distance - 1.0) < 1e-4);
+    BOOST_TEST(((x - x0) - (x - x0).dot(v0.normalized()) * v0.normalized()).norm() < 1e-9 * distance);  // straight
+    sim.run(static_cast<std::size_t>(stop_time / sim.time_step()));  // held by static friction
+    BOOST_TEST((sim.particles().position()[0] - x).norm() < 1e-6 * distance);
+    const auto& books = sim.books();
+    const double kinetic0 = 0.5 * m * v0.squaredNorm();
+    BOOST_TEST_MESSAGE(dim << "D without rotation: sliding dissipated " << books.dissipated_sliding / kinetic0
+                           << " of the kinetic energy, the tangential dashpot " << books.dissipated_tangential / kinetic0);
+    BOOST_TEST(books.dissipated_sliding > 0.99 * kinetic0);
+    BOOST_TEST(std::abs(sim.energy().total() + books.dissipated() - e0) < 1e-3 * kinetic0);
+}
+
+// On a plane tilted by theta a particle that cannot rotate behaves as a block: it stays put while
+// tan(theta) < mu, where a sphere would roll, and slides with a = g (sin theta - mu cos theta)
+// above; the same numbers as the block given a huge moment of inertia above.
+BOOST_AUTO_TEST_CASE_TEMPLATE(non_rotating_particle_on_incline, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    for (double tan_theta : {0.45, 0.55, 2.0}) {
+        const double theta = std::atan(tan_theta);
+        const double expected = tan_theta < mu ? 0.0 : std::sin(theta) - mu * std::cos(theta);
+        const mm::Vec<dim> normal = std::cos(theta) * unit<dim>(up) - std::sin(theta) * unit<dim>(0);
+        const mm::Vec<dim> downhill = -std::cos(theta) * unit<dim>(0) - std::sin(theta) * unit<dim>(up);
+        mm::Walls<dim> walls;
+        walls.add(normal, mm::Vec<dim>::Zero());
+        NonRotatingScene<dim> sim(non_rotating_law(), {}, walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+        sim.particles().add((a - m * g * std::cos(theta) / k) * normal, a, m);
+        sim.set_time_step(wall_dt());
+        const auto ten_ms = static_cast<std::size_t>(1e-2 / wall_dt());
+        sim.run(ten_ms);  // the spring's transient decays in ~1 ms
+        const double v1 = sim.particles().velocity()[0].dot(downhill), t1 = sim.time();
+        sim.run(ten_ms);
+        const double v2 = sim.particles().velocity()[0].dot(downhill), t2 = sim.time();
+        const double acc = (v2 - v1) / (t2 - t1) / g;
+        BOOST_TEST_MESSAGE(dim << "D without rotation, tan = " << tan_theta << ": a/g = " << acc << " expected " << expected);
+        if (expected == 0.0) {
+            BOOST_TEST(std::abs(acc) < 1e-7);
+            BOOST_TEST(std::abs(v2) < 1e-8);
+        } else {
+            BOOST_TEST(std::abs(acc / expected - 1.0) < 1e-3);
+        }
+    }
+}
+
 // Direct checks of the law: the force never exceeds the Coulomb limit mu_s f_n; a sliding contact
 // leaves its spring exactly at mu_d f_n / k_t; the spring stays in the tangent plane.
 BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {

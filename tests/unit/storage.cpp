@@ -67,7 +67,12 @@ BOOST_AUTO_TEST_CASE(scenes_store_only_what_they_use) {
     using Frictionless = mm::Simulation<2, mm::FrictionlessLinear>;
     using Frictional = mm::Simulation<2, mm::FrictionalLinear>;
     using WithWalls = mm::Simulation<2, mm::FrictionlessLinear, mm::Walls<2>>;
+    using NonRotating = mm::Simulation<2, mm::FrictionalLinearWithoutRotation>;
     static_assert(!Frictionless::rotation && Frictional::rotation);
+    // Friction without rotation: the springs, but none of the angular fields.
+    static_assert(!NonRotating::rotation && NonRotating::has_tangential);
+    static_assert(std::is_same_v<NonRotating::History, Frictional::History>);
+    static_assert(std::is_same_v<std::decay_t<decltype(std::declval<NonRotating&>().particles())>, P2>);
     static_assert(!Frictionless::has_walls && WithWalls::has_walls);
     BOOST_TEST(sizeof(Frictionless) < sizeof(Frictional));
     BOOST_TEST(sizeof(Frictionless) < sizeof(WithWalls));

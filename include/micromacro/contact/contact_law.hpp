@@ -19,6 +19,7 @@ concept TangentialModel = requires(const T& t) {
 };
 static_assert(TangentialModel<Frictionless>);
 static_assert(TangentialModel<CundallStrack>);
+static_assert(TangentialModel<CundallStrackWithoutRotation>);
 
 template <NormalModel Normal, TangentialModel Tangential = Frictionless>
 struct ContactLaw {
@@ -36,5 +37,7 @@ struct ContactLaw {
 using FrictionlessLinear = ContactLaw<LinearSpringDashpot, Frictionless>;
 /// The paper's law: linear spring-dashpot plus the Cundall-Strack spring of Eq. 23-29.
 using FrictionalLinear = ContactLaw<LinearSpringDashpot, CundallStrack>;
+/// The same on particles that do not rotate (rotation suppressed).
+using FrictionalLinearWithoutRotation = ContactLaw<LinearSpringDashpot, CundallStrackWithoutRotation>;
 
 }  // namespace micromacro

@@ -177,4 +177,15 @@ private:
     double kt_, gamma_t_, mu_s_, mu_d_;
 };
 
+/// Cundall-Strack friction between particles that do not rotate: the same spring, Coulomb limit,
+/// hysteresis and energy books, driven by the relative velocity of the centres alone. For
+/// studies that suppress rotation (what rolling contributes to strength and dilatancy) and for
+/// blocks that slide. No torques are computed, and the scene stores no angular velocity, torque
+/// or moment of inertia: a third less particle storage than with rotation.
+class CundallStrackWithoutRotation : public CundallStrack {
+public:
+    using CundallStrack::CundallStrack;
+    static constexpr bool needs_rotation = false;
+};
+
 }  // namespace micromacro

@@ -160,11 +160,15 @@ public:
         double limit = Integrator::stability_limit(std::sqrt(law_.normal.stiffness() * inv_mu_n),
                                                   0.5 * law_.normal.damping() * inv_mu_n);
         if constexpr (has_tangential) {
-            const auto& inv_I = particles_.template get<field::InverseInertia>();
+            // The contact point's tangential mobility: 1/m + a^2/I with rotation, 1/m without.
             double inv_t = 0.0;
             for (std::size_t i = 0; i < particles_.size(); ++i) {
-                const double a = particles_.radius()[i];
-                inv_t = std::max(inv_t, double(inv_m[i]) + a * a * double(inv_I[i]));
+                double mobility = inv_m[i];
+                if constexpr (rotation) {
+                    const double a = particles_.radius()[i];
+                    mobility += a * a * double(particles_.template get<field::InverseInertia>()[i]);
+                }
+                inv_t = std::max(inv_t, mobility);
             }
             const double inv_mu_t = partners * inv_t;
             limit = std::min(limit, Integrator::stability_limit(std::sqrt(law_.tangential.stiffness() * inv_mu_t),

@@ -159,7 +159,7 @@ private:
         else if constexpr (std::is_same_v<Field, field::Mass>) return self.mass_;
         else if constexpr (std::is_same_v<Field, field::InverseMass>) return self.inverse_mass_;
         else {
-            static_assert(with_rotation, "this field exists only in scenes with rotation (a tangential contact law)");
+            static_assert(with_rotation, "this field exists only in scenes with rotation (a tangential law that turns particles, e.g. CundallStrack)");
             if constexpr (std::is_same_v<Field, field::AngularVelocity>) return self.angular_velocity_;
             else if constexpr (std::is_same_v<Field, field::Torque>) return self.torque_;
             else if constexpr (std::is_same_v<Field, field::Inertia>) return self.inertia_;
