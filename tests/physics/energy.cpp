@@ -1,7 +1,8 @@
 // Energy bookkeeping: without damping the total energy oscillates at the integrator's O(dt^2)
 // without drift; with damping kinetic + potential + dissipated closes to the integrator's error,
-// converging at its order (second for frictionless contacts; first with the tangential spring,
-// whose update Eq. 27 is an explicit Euler step).
+// converging at its order, the second, with and without the tangential spring (its force is taken
+// at the midpoint of its update, Eq. 26-27, so the work it does over a step equals the change of
+// its stored energy; with the spring of the last step the books closed only at first order).
 #define BOOST_TEST_MODULE physics_energy
 #include <boost/test/unit_test.hpp>
 
@@ -87,7 +88,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional, D, Dims) {
                                 << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
     BOOST_TEST(coarse.dissipated > 0.3);
     BOOST_TEST(coarse.max_deviation < 1e-2);
-    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 1.7);  // first order (Eq. 27)
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);  // second order
 }
 
 // Friction on particles that do not rotate: the same books close, with no rotational energy.
@@ -100,5 +101,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional_without_rotation, D,
                                 << " at t_c/50, " << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
     BOOST_TEST(coarse.dissipated > 0.3);
     BOOST_TEST(coarse.max_deviation < 1e-2);
-    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 1.7);
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);  // second order
 }
