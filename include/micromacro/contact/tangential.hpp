@@ -105,10 +105,10 @@ public:
         const double trial_sq = trial.squaredNorm(), static_limit = mu_s_ * fn, dynamic_limit = mu_d_ * fn;
         // Static until the trial force exceeds mu_s f_n; once sliding, static again when it drops
         // below mu_d f_n (the paper's hysteresis between static and dynamic friction) or when the
-        // motion reverses and unloads the spring. With gamma_t > 0 a reversal already lowers the
-        // trial force below mu_d f_n; with gamma_t = 0 the trial force of a sliding contact sits
-        // exactly at mu_d f_n, and without the reversal test the reset of Eq. 28 would keep the
-        // force pointing against the old motion for ever.
+        // motion reverses and unloads the spring. A reversal lowers the trial force below mu_d f_n
+        // by (gamma_t + k_t dt/2) |v_t|, which is small for small steps and no damping; the
+        // reversal test does not rely on it: without it the reset of Eq. 28 could keep the force
+        // pointing against the old motion.
         // Whatever the state, a trial force above mu_s f_n slides.
         const bool sliding = trial_sq > static_limit * static_limit ||
                              (h.sliding && trial_sq >= dynamic_limit * dynamic_limit && vt.dot(spring) >= 0.0);
