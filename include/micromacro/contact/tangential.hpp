@@ -82,7 +82,11 @@ public:
 
     /// Eq. 23-29. `normal_force` is f_n (positive = compressive); the tangential force is
     /// active only while f_n > 0, otherwise the Coulomb limit is zero and the spring resets.
-    /// The spring in `h` is updated for the next step.
+    /// The spring in `h` is updated for the next step. `normal_velocity` is n . v_ij, which the
+    /// normal law has used already; Eq. 24 takes it instead of projecting v_ij again (the
+    /// rotational part of v_ij is perpendicular to n, so n . v_ij = n . (v_i - v_j)): one dot
+    /// product less on the contact's longest chain of dependent operations (3D N = 100 000
+    /// 1.06x). The 2D form needs only the component along the tangent and ignores it.
     ///
     /// Eq. 26 takes the spring at the present time, xi + v_t dt/2, the midpoint of its update
     /// Eq. 27. The stored xi is the displacement summed up to the previous evaluation, half a step
@@ -93,13 +97,13 @@ public:
     /// fixed tangent plane: (xi + v dt/2) . v dt = 1/2 |xi + v dt|^2 - 1/2 |xi|^2), the lag is gone, and an
     /// undamped contact keeps its amplitude (1 + 1e-4 per period at omega_t dt = 0.05).
     template <int dim, bool track_energy>
-    MICROMACRO_INLINE TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force,
-                               double dt, History<dim>& h) const {
+    MICROMACRO_INLINE TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_velocity,
+                                                 double normal_force, double dt, History<dim>& h) const {
         if constexpr (dim == 2) return force_along_line<track_energy>(n, relative_velocity, normal_force, dt, h);
         using V = Vec<dim>;
         TangentialForce<dim> out;
         const V spring = h.spring - n * n.dot(h.spring);                         // Eq. 23
-        const V vt = relative_velocity - n * n.dot(relative_velocity);           // Eq. 24
+        const V vt = relative_velocity - n * normal_velocity;                    // Eq. 24
         const V trial = -kt_ * V(spring + (0.5 * dt) * vt) - gamma_t_ * vt;     // Eq. 26, centred (see above)
         const double fn = std::max(normal_force, 0.0);
         // Compared squared: the square root is needed only by a sliding contact.

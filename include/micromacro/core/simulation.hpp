@@ -575,7 +575,7 @@ private:
         Response out{fn.total() * n, V::Zero(), fn.total()};
         if constexpr (has_tangential) {
             if (smooth) return out;  // a frictionless wall: normal part only
-            const auto ft = law.tangential.template force<dim, track>(n, relative_velocity, fn.total(), dt, *h);
+            const auto ft = law.tangential.template force<dim, track>(n, relative_velocity, normal_velocity, fn.total(), dt, *h);
             if constexpr (track) {
                 books.dissipated_tangential += ft.dissipated_viscous;
                 books.dissipated_sliding += ft.dissipated_sliding;
