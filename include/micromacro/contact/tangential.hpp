@@ -85,8 +85,8 @@ public:
     /// The spring in `h` is updated for the next step. `normal_velocity` is n . v_ij, which the
     /// normal law has used already; Eq. 24 takes it instead of projecting v_ij again (the
     /// rotational part of v_ij is perpendicular to n, so n . v_ij = n . (v_i - v_j)): one dot
-    /// product less on the contact's longest chain of dependent operations (3D N = 100 000
-    /// 1.06x). The 2D form needs only the component along the tangent and ignores it.
+    /// product less on the contact's longest chain of dependent operations. The 2D form needs
+    /// only the component along the tangent and ignores it.
     ///
     /// Eq. 26 takes the spring at the present time, xi + v_t dt/2, the midpoint of its update
     /// Eq. 27. The stored xi is the displacement summed up to the previous evaluation, half a step
