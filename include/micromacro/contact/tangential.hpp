@@ -94,8 +94,9 @@ public:
     /// makes an undamped sticking contact ring up by 1 + (pi/2) omega_t dt per period (8% at
     /// omega_t dt = 0.05; stable only for gamma_t > k_t dt/2). Centred, the spring's work over a
     /// step equals the change of its stored energy 1/2 k_t xi^2 (exactly while it sticks in a
-    /// fixed tangent plane: (xi + v dt/2) . v dt = 1/2 |xi + v dt|^2 - 1/2 |xi|^2), the lag is gone, and an
-    /// undamped contact keeps its amplitude (1 + 1e-4 per period at omega_t dt = 0.05).
+    /// fixed tangent plane: (xi + v dt/2) . v dt = 1/2 |xi + v dt|^2 - 1/2 |xi|^2), the lag is
+    /// gone, and an undamped contact keeps its amplitude (1 + 1e-4 per period at omega_t dt =
+    /// 0.05). tests/physics/tangential.cpp, undamped_sticking_contact_keeps_its_energy.
     template <int dim, bool track_energy>
     MICROMACRO_INLINE TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_velocity,
                                                  double normal_force, double dt, History<dim>& h) const {
