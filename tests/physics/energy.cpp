@@ -87,7 +87,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional, D, Dims) {
     BOOST_TEST_MESSAGE(D::value << "D damped frictional: residual " << coarse.max_deviation << " at t_c/50, "
                                 << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
     BOOST_TEST(coarse.dissipated > 0.3);
-    BOOST_TEST(coarse.max_deviation < 1e-2);
+    BOOST_TEST(coarse.max_deviation < 5e-3);  // measured 0.8e-3 to 1.8e-3
     BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);  // second order
 }
 
@@ -100,6 +100,6 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional_without_rotation, D,
     BOOST_TEST_MESSAGE(D::value << "D damped frictional without rotation: residual " << coarse.max_deviation
                                 << " at t_c/50, " << fine.max_deviation << " at t_c/100; dissipated " << coarse.dissipated);
     BOOST_TEST(coarse.dissipated > 0.3);
-    BOOST_TEST(coarse.max_deviation < 1e-2);
+    BOOST_TEST(coarse.max_deviation < 5e-3);  // measured 0.8e-3 to 1.8e-3
     BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);  // second order
 }
