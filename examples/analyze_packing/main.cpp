@@ -31,25 +31,6 @@ struct Options {
     bool exclude_rattlers = false;
 };
 
-bool looks_like_lammps(const std::string& path) {
-    std::ifstream in(path);
-    std::string first;
-    std::getline(in, first);
-    return first.rfind("ITEM:", 0) == 0;
-}
-
-int csv_dimension(const std::string& path) {
-    std::ifstream in(path);
-    std::string line;
-    while (std::getline(in, line))
-        if (!line.empty() && line[0] != '#' && line.find_first_not_of(" \t\r") != std::string::npos) {
-            for (const auto& name : mm::io::detail::split(line, ','))
-                if (name == "y") return 3;
-            return 2;
-        }
-    return 2;
-}
-
 /// Gives the detected contacts the tangential forces of a contact-force file (projected into
 /// each contact's tangent plane); a listed pair that does not overlap is an error.
 template <int dim>
@@ -80,45 +61,13 @@ mm::SelectionRule selection_rule(const std::string& rule) {
 }
 
 template <int dim>
-nlohmann::ordered_json analyze(const Options& o, bool lammps) {
-    const auto file = lammps ? mm::io::read_lammps_dump<dim>(o.input) : mm::io::read_csv<dim>(o.input);
-
-    // Periodic axes: --periodic, else the dump's pp flags.
-    std::array<bool, dim> periodic = file.periodic;
-    if (!o.periodic.empty()) {
-        periodic.fill(false);
-        const std::string names = dim == 2 ? "xz" : "xyz";
-        for (char c : o.periodic) {
-            if (c == ',' || c == ' ') continue;
-            const auto axis = names.find(c);
-            if (axis == std::string::npos)
-                mm::detail::throw_input_error("--periodic: unknown axis '", std::string(1, c), "'; use ", names);
-            periodic[axis] = true;
-        }
-    }
-    // The box: --box, else the dump's box, else the particles' extent.
-    mm::Vec<dim> lo, hi;
-    if (!o.box.empty()) {
-        if (o.box.size() != 2 * dim)
-            mm::detail::throw_input_error("--box needs ", 2 * dim, " numbers (lo hi per axis), got ", o.box.size());
-        for (int a = 0; a < dim; ++a) {
-            lo[a] = o.box[2 * a];
-            hi[a] = o.box[2 * a + 1];
-        }
-    } else if (file.box) {
-        std::tie(lo, hi) = *file.box;
-    } else {
-        for (int a = 0; a < dim; ++a) {
-            if (periodic[a]) mm::detail::throw_input_error("a periodic axis needs the box: give --box");
-            lo[a] = hi[a] = file.position[0][a];
-            for (std::size_t p = 0; p < file.position.size(); ++p) {
-                lo[a] = std::min(lo[a], file.position[p][a] - file.radius[p]);
-                hi[a] = std::max(hi[a], file.position[p][a] + file.radius[p]);
-            }
-        }
-    }
+nlohmann::ordered_json analyze(const Options& o, mm::io::PackingFormat format) {
+    const auto file = mm::io::read_packing<dim>(o.input, format);
+    // Box and periodic axes: the options, else the dump's, else the particles' extent.
+    const auto domain = mm::io::packing_domain<dim>(file, o.box, o.periodic);
+    const mm::Vec<dim> lo = domain.lo(), hi = domain.hi();
     mm::PackingSnapshot<dim> s;
-    s.domain = mm::Domain<dim>(lo, hi, periodic);
+    s.domain = domain;
     s.position = file.position;
     s.radius = file.radius;
     mm::detect_contacts(s, o.k, o.kt);
@@ -168,9 +117,11 @@ int main(int argc, char** argv) {
 
     try {
         selection_rule(o.rule);  // refuse a bad option before reading anything
-        const bool lammps = o.format.empty() ? looks_like_lammps(o.input) : o.format == "lammps";
-        const int dim = o.dim ? o.dim : (lammps ? 3 : csv_dimension(o.input));
-        const auto json = dim == 2 ? analyze<2>(o, lammps) : analyze<3>(o, lammps);
+        const auto format = o.format.empty() ? mm::io::guess_format(o.input)
+                            : o.format == "lammps" ? mm::io::PackingFormat::lammps_dump
+                                                   : mm::io::PackingFormat::csv;
+        const int dim = o.dim ? o.dim : mm::io::guess_dimension(o.input, format);
+        const auto json = dim == 2 ? analyze<2>(o, format) : analyze<3>(o, format);
         const std::string text = json.dump(2) + "\n";
         if (o.output.empty()) {
             std::cout << text;

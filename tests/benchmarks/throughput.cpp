@@ -5,6 +5,7 @@
 //
 //   throughput --dim 2 --particles 20000 --law frictional --steps 2000
 //   throughput --packing packing.csv --box 0 0.1 0 0.1 --periodic x,z --k 1e5 --kt 2e4 --mu 0.5 --json
+//   throughput --packing dump.lammps --sort --dt 1e-7 --gamma-n 0.01   # box and pp axes from the dump
 //
 // The generated packing is a square (2D) or simple cubic (3D) lattice of equal 1 mm particles
 // in a periodic box, pressed together by 1e-4 of a diameter and jittered by 1e-5 of it, so every
@@ -14,6 +15,12 @@
 // a velocity profile of 1/s (slowly sheared). --precision float stores the particle state in
 // float (arithmetic stays double; the coarse positions are accepted for the timing);
 // --threads splits the pair loop and the particle passes (OpenMP).
+//
+// A packing file (CSV as analyze_packing reads it, or a LAMMPS dump) is read, and its box and
+// periodic axes settled, as analyze_packing does (io::read_packing, io::packing_domain); the
+// dimension is the file's unless --dim says otherwise. The time step is t_c/50 of two particles
+// of the packing's mean radius at --density (Eq. 22, the paper's choice), or --dt. Everything that
+// sets the work is printed with the result (the JSON line's keys after "precision").
 #include <sys/resource.h>
 
 #include <chrono>
@@ -22,6 +29,7 @@
 #include <numeric>
 #include <random>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -41,6 +49,10 @@ struct Options {
     std::string packing, periodic;
     std::vector<double> box;
     double k = 1e5, kt = 2e4, mu = 0.5;
+    double gamma_n = 0.1, gamma_t = 0.02;  // kg/s, the paper's
+    double density = 2000.0;               // kg/m^3
+    double dt_fraction = 50.0, dt = 0.0;   // dt = t_c / dt_fraction unless dt > 0
+    double skin = 0.0;                     // 0: the engine's default (a fifth of the mean radius)
     int threads = 1;
     std::string precision = "double";
     bool track_energy = true;
@@ -55,7 +67,11 @@ double peak_rss_bytes() {
 
 template <int dim>
 void fill_lattice(std::vector<mm::Vec<dim>>& x, std::vector<double>& r, double& L, std::size_t n, unsigned seed) {
-    const int per_side = static_cast<int>(std::ceil(std::pow(double(n), 1.0 / dim)));
+    const int per_side = static_cast<int>(std::ceil(std::pow(double(n), 1.0 / dim) - 1e-9));
+    // Each periodic axis must hold two interaction ranges (2.2 spacings with the default skin).
+    if (per_side < 3)
+        mm::detail::throw_input_error("--particles ", n, " makes a lattice ", per_side, " particles wide, and the periodic box "
+                                      "needs at least 3 per side; use --particles ", dim == 2 ? 9 : 27, " or more");
     const double spacing = 2e-3;
     L = per_side * spacing;
     std::mt19937_64 rng(seed);
@@ -78,17 +94,11 @@ int run(const Options& o, const Law& law, const char* law_name) {
         fill_lattice<dim>(x, r, L, o.particles, 1);
         domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
     } else {
-        const auto f = mm::io::read_csv<dim>(o.packing);
-        x = f.position;
-        r = f.radius;
-        std::array<bool, dim> periodic{};
-        const std::string names = dim == 2 ? "xz" : "xyz";
-        for (char c : o.periodic)
-            if (names.find(c) != std::string::npos) periodic[names.find(c)] = true;
-        mm::Vec<dim> lo, hi;
-        if (o.box.size() != 2 * dim) mm::detail::throw_input_error("--packing needs --box with ", 2 * dim, " numbers");
-        for (int a = 0; a < dim; ++a) lo[a] = o.box[2 * a], hi[a] = o.box[2 * a + 1];
-        domain = mm::Domain<dim>(lo, hi, periodic);
+        const auto format = mm::io::guess_format(o.packing);
+        auto f = mm::io::read_packing<dim>(o.packing, format);
+        domain = mm::io::packing_domain<dim>(f, o.box, o.periodic);
+        x = std::move(f.position);
+        r = std::move(f.radius);
     }
     if (o.shuffle) {  // the particles in random order, as random placement or a long flow leaves them
         std::vector<std::size_t> perm(x.size());
@@ -100,13 +110,17 @@ int run(const Options& o, const Law& law, const char* law_name) {
         x.swap(xs);
         r.swap(rs);
     }
+    // Two particles of the mean radius set t_c (Eq. 22), as in the paper and the biaxial example.
+    const double mean_radius = std::accumulate(r.begin(), r.end(), 0.0) / double(r.size());
+    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(o.density, mean_radius));
+    const double dt = o.dt > 0.0 ? o.dt : tc / o.dt_fraction;
     mm::BasicSimulation<dim, Real, Law> sim(law, domain);
     sim.set_threads(o.threads);
     sim.set_track_energy(o.track_energy);
     sim.allow_coarse_positions(true);  // float cannot resolve these overlaps; here only the time counts
-    const double rho = 2000.0;
+    if (o.skin > 0.0) sim.set_skin(o.skin);
     sim.particles().reserve(x.size());
-    for (std::size_t i = 0; i < x.size(); ++i) sim.particles().add(x[i], r[i], mm::sphere_mass(rho, r[i]));
+    for (std::size_t i = 0; i < x.size(); ++i) sim.particles().add(x[i], r[i], mm::sphere_mass(o.density, r[i]));
     std::vector<mm::Vec<dim>>().swap(x);  // the engine holds them now: peak memory is the engine's
     std::vector<double>().swap(r);
     if (o.shear) {
@@ -114,8 +128,11 @@ int run(const Options& o, const Law& law, const char* law_name) {
         for (std::size_t i = 0; i < sim.particles().size(); ++i) sim.particles().velocity()[i][0] = rate * (sim.particles().position()[i][dim - 1] - domain.lo()[dim - 1]);
     }
     if (o.sort) sim.sort_spatially();
-    const double mean_mass = mm::sphere_mass(rho, 1e-3);
-    sim.set_time_step(mm::contact_duration(o.k, 0.1, 0.5 * mean_mass) / 50);
+    sim.set_time_step(dt);
+    if (const double limit = sim.stable_time_step(); dt > limit)  // said in the program's terms, not the engine's
+        mm::detail::throw_input_error("time step dt = ", dt, " s (", o.dt > 0.0 ? "--dt" : "t_c / --dt-fraction",
+                                      ") exceeds the stability limit ", limit,
+                                      " s of the lightest particles' contact; give --dt below it or a larger --dt-fraction");
     sim.prepare();
     const std::size_t contacts = sim.contact_count();
     const auto start = std::chrono::steady_clock::now();
@@ -127,32 +144,46 @@ int run(const Options& o, const Law& law, const char* law_name) {
     const double bytes = peak_rss_bytes() / n;  // whole process: includes its fixed baseline
     const double storage = static_cast<double>(sim.storage_bytes()) / n;
     const char* name = o.packing.empty() ? (o.shear ? "shear" : "static") : "file";
+    // The configuration: everything that sets the work of a step.
+    std::string periodic;
+    for (int a = 0; a < dim; ++a)
+        if (domain.periodic(a)) periodic += mm::io::csv_coordinates<dim>()[a];
+    const char* order = o.shuffle ? (o.sort ? "shuffled, then sorted" : "shuffled") : (o.sort ? "sorted" : "as given");
+    const bool friction = std::string_view(law_name) != "frictionless";
     if (o.json)
         std::printf("{\"name\": \"%s-%s\", \"dim\": %d, \"particles\": %zu, \"contacts\": %zu, \"steps\": %zu, "
                     "\"seconds\": %.6g, \"particle_steps_per_second\": %.6g, \"ns_per_contact\": %.4g, "
                     "\"bytes_per_particle\": %.1f, \"storage_bytes_per_particle\": %.1f, \"threads\": %d, "
-                    "\"precision\": \"%s\"}\n",
+                    "\"precision\": \"%s\", \"law\": \"%s\", \"packing\": \"%s\", \"order\": \"%s\", \"periodic\": \"%s\", "
+                    "\"k\": %.6g, \"gamma_n\": %.6g, \"kt\": %.6g, \"gamma_t\": %.6g, \"mu\": %.6g, \"density\": %.6g, "
+                    "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s}\n",
                     name, law_name, dim, sim.particles().size(), contacts, o.steps, seconds, pps, ns_contact, bytes, storage, o.threads,
-                    o.precision.c_str());
-    else
+                    o.precision.c_str(), law_name, o.packing.empty() ? "lattice" : o.packing.c_str(), order, periodic.c_str(), o.k,
+                    o.gamma_n, friction ? o.kt : 0.0, friction ? o.gamma_t : 0.0, friction ? o.mu : 0.0, o.density, tc, dt,
+                    sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false");
+    else {
         std::printf("%s %s %dD: %zu particles, %zu contacts (coordination %.2f), %zu steps in %.3f s: %.3g particle-steps/s, "
                     "%.1f ns per contact, peak memory %.0f bytes per particle (engine arrays %.0f) (%d threads, %s)\n",
                     name, law_name, dim, sim.particles().size(), contacts, 2.0 * contacts / n, o.steps, seconds, pps,
                     ns_contact, bytes, storage, o.threads, o.precision.c_str());
+        std::printf("  packing %s (order %s, periodic axes '%s'); k %.6g N/m, gamma_n %.6g kg/s", o.packing.empty() ? "lattice" : o.packing.c_str(),
+                    order, periodic.c_str(), o.k, o.gamma_n);
+        if (friction) std::printf(", k_t %.6g N/m, gamma_t %.6g kg/s, mu %.6g", o.kt, o.gamma_t, o.mu);
+        std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s\n", o.density, tc, dt,
+                    tc / dt, sim.skin(), o.track_energy ? "on" : "off");
+    }
     return 0;
 }
 
 template <int dim, class Real>
 int dispatch_law(const Options& o) {
-    if (o.law == "frictionless") return run<dim, Real>(o, mm::FrictionlessLinear{mm::LinearSpringDashpot(o.k, 0.1)}, "frictionless");
+    const mm::LinearSpringDashpot normal(o.k, o.gamma_n);
+    if (o.law == "frictionless") return run<dim, Real>(o, mm::FrictionlessLinear{normal}, "frictionless");
     if (o.law == "frictional-no-rotation")
-        return run<dim, Real>(o,
-                              mm::FrictionalLinearWithoutRotation{mm::LinearSpringDashpot(o.k, 0.1),
-                                                                  mm::CundallStrackWithoutRotation(o.kt, 0.02, o.mu)},
+        return run<dim, Real>(o, mm::FrictionalLinearWithoutRotation{normal, mm::CundallStrackWithoutRotation(o.kt, o.gamma_t, o.mu)},
                               "frictional-no-rotation");
     if (o.law == "frictional")
-        return run<dim, Real>(o, mm::FrictionalLinear{mm::LinearSpringDashpot(o.k, 0.1), mm::CundallStrack(o.kt, 0.02, o.mu)},
-                              "frictional");
+        return run<dim, Real>(o, mm::FrictionalLinear{normal, mm::CundallStrack(o.kt, o.gamma_t, o.mu)}, "frictional");
     mm::detail::throw_input_error("--law '", o.law, "' is unknown; use frictionless, frictional-no-rotation or frictional");
 }
 
@@ -165,24 +196,42 @@ int dispatch(const Options& o) {
 int main(int argc, char** argv) {
     Options o;
     CLI::App app{"Engine throughput: particle-steps per second, ns per contact, peak memory per particle"};
-    app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
-    app.add_option("--particles", o.particles, "particles of the generated packing")->capture_default_str();
+    auto* dim = app.add_option("--dim", o.dim, "2 or 3 (with --packing: the file's, a CSV 3 if it has a y column)")
+                    ->check(CLI::IsMember({2, 3}))
+                    ->capture_default_str();
+    auto* particles = app.add_option("--particles", o.particles, "particles of the generated lattice (at least 9 in 2D, 27 in 3D)")
+                          ->capture_default_str();
     app.add_option("--law", o.law,
                    "frictionless, frictional-no-rotation (tangential springs, particles do not turn) or frictional "
                    "(tangential springs and rotation)")
         ->check(CLI::IsMember({"frictionless", "frictional-no-rotation", "frictional"}))
         ->capture_default_str();
-    app.add_option("--steps", o.steps, "time steps to time")->capture_default_str();
-    app.add_flag("--shear", o.shear, "start from a slow shear profile instead of rest");
-    app.add_option("--packing", o.packing, "time this packing instead (CSV as analyze_packing reads)")->check(CLI::ExistingFile);
-    app.add_option("--box", o.box, "bounds lo hi per axis (with --packing)");
-    app.add_option("--periodic", o.periodic, "periodic axes (with --packing), e.g. x,z");
+    app.add_option("--steps", o.steps, "time steps to time")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
+    app.add_flag("--shear", o.shear, "start from a slow shear profile (1/s) instead of rest");
+    auto* packing = app.add_option("--packing", o.packing,
+                                   "time this packing instead: CSV as analyze_packing reads it (x,z,r in 2D, x,y,z,r in 3D) "
+                                   "or a LAMMPS dump (format from the first line)")
+                        ->check(CLI::ExistingFile)
+                        ->excludes(particles);
+    app.add_option("--box", o.box, "bounds lo hi per axis (m; default: the dump's box, else the particles' extent)")
+        ->expected(4, 6)
+        ->needs(packing);
+    app.add_option("--periodic", o.periodic, "periodic axes, e.g. x,z (default: the dump's pp axes, else none)")->needs(packing);
     app.add_option("--k", o.k, "normal stiffness (N/m)")->capture_default_str();
+    app.add_option("--gamma-n", o.gamma_n, "normal damping gamma_0 (kg/s)")->capture_default_str();
     app.add_option("--kt", o.kt, "tangential stiffness (N/m)")->capture_default_str();
+    app.add_option("--gamma-t", o.gamma_t, "tangential damping (kg/s)")->capture_default_str();
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
+    app.add_option("--density", o.density, "particle density (kg/m^3): masses, and t_c")->capture_default_str();
+    auto* fraction = app.add_option("--dt-fraction", o.dt_fraction, "dt = t_c / this, t_c of two particles of the mean radius")
+                         ->check(CLI::PositiveNumber)
+                         ->capture_default_str();
+    app.add_option("--dt", o.dt, "the time step in s instead")->check(CLI::PositiveNumber)->excludes(fraction);
+    app.add_option("--skin", o.skin, "neighbour-list skin in m (default: a fifth of the mean radius)")->check(CLI::PositiveNumber);
     app.add_option("--threads", o.threads, "threads (OpenMP)")->capture_default_str();
     app.add_flag("--shuffle", o.shuffle, "number the particles in random order first");
-    app.add_flag("--sort", o.sort, "renumber the particles in row order (sort_spatially) before timing");
+    app.add_flag("--sort", o.sort, "renumber the particles in row order (sort_spatially) before timing; "
+                                   "a file's own order may be slow (see the README)");
     app.add_flag("!--no-energy", o.track_energy, "switch the energy books off (on by default, as in the examples)");
     app.add_option("--precision", o.precision, "storage precision of the particle state: double or float")
         ->check(CLI::IsMember({"double", "float"}))
@@ -190,6 +239,8 @@ int main(int argc, char** argv) {
     app.add_flag("--json", o.json, "one JSON line instead of text");
     CLI11_PARSE(app, argc, argv);
     try {
+        if (!o.packing.empty() && dim->count() == 0)
+            o.dim = mm::io::guess_dimension(o.packing, mm::io::guess_format(o.packing));
         return o.dim == 2 ? dispatch<2>(o) : dispatch<3>(o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "throughput: %s\n", e.what());

@@ -165,7 +165,7 @@ BOOST_AUTO_TEST_CASE(bad_inputs_name_file_and_line) {
          "", "count.dump:8: ITEM: NUMBER OF ATOMS says 2, the file holds 1"},
         {"noatoms.dump", "ITEM: TIMESTEP\n0\n", "--format lammps", "noatoms.dump:2: no ITEM: ATOMS section"},
         {"ok.csv", "x,z,r\n0,0,1e-3\n", "--rule nearest", "--rule 'nearest' is unknown"},
-        {"ok2.csv", "x,z,r\n0,0,1e-3\n", "--periodic q --box 0 1 0 1", "--periodic: unknown axis 'q'"},
+        {"ok2.csv", "x,z,r\n0,0,1e-3\n", "--periodic q --box 0 1 0 1", "periodic axes 'q': unknown axis 'q'; in 2D name them from x, z"},
     };
     for (const auto& c : cases) {
         const auto path = write(c.name, c.text);

@@ -8,6 +8,9 @@
 // starting with # are skipped.
 // LAMMPS: the first snapshot of a text dump: ITEM: BOX BOUNDS (orthogonal box; pp marks a
 // periodic axis) and ITEM: ATOMS with x y z and radius or diameter (2D uses x and y).
+// `read_packing` reads either, `packing_domain` settles the box: the programs that take a
+// packing file (analyze_packing, the throughput benchmark) resolve format, dimension, box and
+// periodic axes here, the same way.
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -19,9 +22,11 @@
 #include <optional>
 #include <sstream>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
 
 namespace micromacro::io {
@@ -250,6 +255,85 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
                                      std::to_string(f.position.size()));
     detail::check_particles(f, path);
     return f;
+}
+
+enum class PackingFormat { csv, lammps_dump };
+
+/// The format of a packing file from its first line: a LAMMPS dump starts with "ITEM:".
+inline PackingFormat guess_format(const std::string& path) {
+    auto in = detail::open(path);
+    std::string first;
+    std::getline(in, first);
+    return first.rfind("ITEM:", 0) == 0 ? PackingFormat::lammps_dump : PackingFormat::csv;
+}
+
+/// The dimension a packing file describes: 3 for a LAMMPS dump, and for a CSV file 3 if its
+/// header names a y column, else 2 (2D uses the paper's x and z).
+inline int guess_dimension(const std::string& path, PackingFormat format) {
+    if (format == PackingFormat::lammps_dump) return 3;
+    auto in = detail::open(path);
+    std::string line;
+    while (std::getline(in, line)) {
+        if (line.empty() || line[0] == '#' || line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        for (const auto& name : detail::split(line, ','))
+            if (name == "y") return 3;
+        return 2;
+    }
+    return 2;
+}
+
+template <int dim>
+PackingFile<dim> read_packing(const std::string& path, PackingFormat format) {
+    return format == PackingFormat::lammps_dump ? read_lammps_dump<dim>(path) : read_csv<dim>(path);
+}
+
+/// Periodic axes from a list of axis names, e.g. "x,z" (2D: x and z, the paper's plane; 3D: x,
+/// y and z); commas and spaces separate them.
+template <int dim>
+std::array<bool, dim> parse_periodic_axes(const std::string& list) {
+    const std::string names = dim == 2 ? "xz" : "xyz";
+    std::array<bool, dim> periodic{};
+    for (char c : list) {
+        if (c == ',' || c == ' ') continue;
+        const auto axis = names.find(c);
+        if (axis == std::string::npos)
+            micromacro::detail::throw_input_error("periodic axes '", list, "': unknown axis '", std::string(1, c),
+                                                  "'; in ", dim, "D name them from ", dim == 2 ? "x, z" : "x, y, z",
+                                                  " (for example ", dim == 2 ? "x,z" : "x,y,z", ")");
+        periodic[axis] = true;
+    }
+    return periodic;
+}
+
+/// The box of a packing: `box` (lo hi per axis) if given, else the file's own (LAMMPS), else the
+/// particles' extent; periodic axes from `periodic_axes` (see parse_periodic_axes) if it is not
+/// empty, else the file's (LAMMPS pp). A periodic axis needs a box from the file or from `box`.
+template <int dim>
+Domain<dim> packing_domain(const PackingFile<dim>& file, const std::vector<double>& box, const std::string& periodic_axes) {
+    const std::array<bool, dim> periodic = periodic_axes.empty() ? file.periodic : parse_periodic_axes<dim>(periodic_axes);
+    Vec<dim> lo, hi;
+    if (!box.empty()) {
+        if (box.size() != 2 * dim)
+            micromacro::detail::throw_input_error("a ", dim, "D box needs ", 2 * dim, " numbers (lo hi per axis), got ", box.size());
+        for (int a = 0; a < dim; ++a) {
+            lo[a] = box[2 * a];
+            hi[a] = box[2 * a + 1];
+        }
+    } else if (file.box) {
+        std::tie(lo, hi) = *file.box;
+    } else {
+        for (int a = 0; a < dim; ++a) {
+            if (periodic[a])
+                micromacro::detail::throw_input_error("periodic axis ", csv_coordinates<dim>()[a],
+                                                      " needs the box's bounds, and the file gives none: give them (--box in the programs)");
+            lo[a] = hi[a] = file.position.at(0)[a];
+            for (std::size_t p = 0; p < file.position.size(); ++p) {
+                lo[a] = std::min(lo[a], file.position[p][a] - file.radius[p]);
+                hi[a] = std::max(hi[a], file.position[p][a] + file.radius[p]);
+            }
+        }
+    }
+    return Domain<dim>(lo, hi, periodic);
 }
 
 /// One line of a contact-force file: the tangential force on particle `i` from particle `j`.
