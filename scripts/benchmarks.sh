@@ -20,7 +20,8 @@ cases=(
   "2 200000 frictionless 1" "2 200000 frictional-no-rotation 1" "2 200000 frictional 1" "2 200000 frictional 2"
   "2 200000 frictional 1 --precision float" "2 200000 frictional 1 --no-energy"
   "2 200000 frictional 1 --shuffle" "2 200000 frictional 1 --shuffle --sort"
-  "3 12500 frictional 1" "3 100000 frictional-no-rotation 1" "3 100000 frictional 1" "3 100000 frictional 2"
+  "3 12500 frictional 1" "3 100000 frictionless 1" "3 100000 frictional-no-rotation 1" "3 100000 frictional 1"
+  "3 100000 frictional 1 --shear" "3 100000 frictional 2"
   "3 100000 frictional 1 --precision float" "3 100000 frictional 1 --no-energy"
   "3 100000 frictional 1 --shuffle" "3 100000 frictional 1 --shuffle --sort"
 )

@@ -65,6 +65,22 @@ double peak_rss_bytes() {
     return 1024.0 * static_cast<double>(u.ru_maxrss);  // Linux reports kilobytes
 }
 
+// A file name as a JSON string's contents (the program prints its JSON by hand).
+std::string json_escaped(const std::string& text) {
+    std::string out;
+    for (char c : text) {
+        if (c == '"' || c == '\\') out += '\\';
+        if (static_cast<unsigned char>(c) < 0x20) {
+            char code[8];
+            std::snprintf(code, sizeof code, "\\u%04x", c);
+            out += code;
+        } else {
+            out += c;
+        }
+    }
+    return out;
+}
+
 template <int dim>
 void fill_lattice(std::vector<mm::Vec<dim>>& x, std::vector<double>& r, double& L, std::size_t n, unsigned seed) {
     const int per_side = static_cast<int>(std::ceil(std::pow(double(n), 1.0 / dim) - 1e-9));
@@ -158,7 +174,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
                     "\"k\": %.6g, \"gamma_n\": %.6g, \"kt\": %.6g, \"gamma_t\": %.6g, \"mu\": %.6g, \"density\": %.6g, "
                     "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s}\n",
                     name, law_name, dim, sim.particles().size(), contacts, o.steps, seconds, pps, ns_contact, bytes, storage, o.threads,
-                    o.precision.c_str(), law_name, o.packing.empty() ? "lattice" : o.packing.c_str(), order, periodic.c_str(), o.k,
+                    o.precision.c_str(), law_name, o.packing.empty() ? "lattice" : json_escaped(o.packing).c_str(), order, periodic.c_str(), o.k,
                     o.gamma_n, friction ? o.kt : 0.0, friction ? o.gamma_t : 0.0, friction ? o.mu : 0.0, o.density, tc, dt,
                     sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false");
     else {

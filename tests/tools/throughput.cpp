@@ -144,6 +144,14 @@ BOOST_AUTO_TEST_CASE(a_lammps_dump_gives_box_and_periodic_axes_and_agrees_with_t
     for (const char* key : {"particles", "contacts", "periodic", "dt", "skin"}) BOOST_TEST(dump[key] == csv[key], key);
 }
 
+// The JSON line stays JSON whatever the file is called.
+BOOST_AUTO_TEST_CASE(file_names_are_escaped_in_the_json_line) {
+    const Lattice lattice{2, 3, 1e-3};
+    const std::string file = lattice.csv("odd \"name\" \\ here.csv");
+    const auto j = run_json("--packing '" + file + "'" + lattice.box_option() + " --periodic x,z --steps 2");
+    BOOST_TEST(j["packing"].get<std::string>() == file);
+}
+
 BOOST_AUTO_TEST_CASE(bad_input_is_refused_with_a_message_and_no_result) {
     const Lattice lattice{3, 4, 5e-5};
     const std::string file = lattice.csv("bad_inputs.csv");
