@@ -47,6 +47,7 @@ struct Options {
     std::size_t steps = 1000;
     bool shear = false, json = false;
     std::string packing, periodic;
+    mm::io::PackingFormat format = mm::io::PackingFormat::csv;  // of the packing file, from its first line
     std::vector<double> box;
     double k = 1e5, kt = 2e4, mu = 0.5;
     double gamma_n = 0.1, gamma_t = 0.02;  // kg/s, the paper's
@@ -110,8 +111,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
         fill_lattice<dim>(x, r, L, o.particles, 1);
         domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
     } else {
-        const auto format = mm::io::guess_format(o.packing);
-        auto f = mm::io::read_packing<dim>(o.packing, format);
+        auto f = mm::io::read_packing<dim>(o.packing, o.format);
         domain = mm::io::packing_domain<dim>(f, o.box, o.periodic);
         x = std::move(f.position);
         r = std::move(f.radius);
@@ -255,8 +255,10 @@ int main(int argc, char** argv) {
     app.add_flag("--json", o.json, "one JSON line instead of text");
     CLI11_PARSE(app, argc, argv);
     try {
-        if (!o.packing.empty() && dim->count() == 0)
-            o.dim = mm::io::guess_dimension(o.packing, mm::io::guess_format(o.packing));
+        if (!o.packing.empty()) {
+            o.format = mm::io::guess_format(o.packing);
+            if (dim->count() == 0) o.dim = mm::io::guess_dimension(o.packing, o.format);
+        }
         return o.dim == 2 ? dispatch<2>(o) : dispatch<3>(o);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "throughput: %s\n", e.what());

@@ -15,6 +15,15 @@ inline std::string slurp(const std::filesystem::path& p) {
     return s.str();
 }
 
+/// Writes `text` to the file `name` in `dir` (created if needed) and returns its path: the input
+/// files the tests hand to programs and readers.
+inline std::string write_file(const std::filesystem::path& dir, const std::string& name, const std::string& text) {
+    std::filesystem::create_directories(dir);
+    const auto path = dir / name;
+    std::ofstream(path) << text;
+    return path.string();
+}
+
 struct ProgramResult {
     int status;
     std::string out, err;

@@ -25,12 +25,7 @@ const fs::path work = fs::temp_directory_path() / "micromacro_analyze_packing_te
 
 mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(ANALYZE_PACKING, args, work); }
 
-std::string write(const std::string& name, const std::string& text) {
-    fs::create_directories(work);
-    const auto p = work / name;
-    std::ofstream(p) << text;
-    return p.string();
-}
+std::string write(const std::string& name, const std::string& text) { return mmtest::write_file(work, name, text); }
 
 std::string num(double v) {
     std::ostringstream s;

@@ -7,7 +7,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <iomanip>
 #include <sstream>
 #include <string>
@@ -74,12 +73,7 @@ struct Lattice {
         for (int k = 0; k < dim; ++k) s += " 0 " + num(box());
         return s;
     }
-    static std::string write(const std::string& name, const std::string& text) {
-        fs::create_directories(work);
-        const auto path = work / name;
-        std::ofstream(path) << text;
-        return path.string();
-    }
+    static std::string write(const std::string& name, const std::string& text) { return mmtest::write_file(work, name, text); }
 };
 
 // t_c of two particles of radius a (Eq. 22), as the program computes it.

@@ -4,10 +4,11 @@
 #include <boost/test/unit_test.hpp>
 
 #include <filesystem>
-#include <fstream>
 #include <string>
 
 #include <micromacro/io/packing_files.hpp>
+
+#include "support/programs.hpp"
 
 namespace fs = std::filesystem;
 namespace mm = micromacro;
@@ -15,11 +16,7 @@ namespace io = micromacro::io;
 
 namespace {
 std::string write(const std::string& name, const std::string& text) {
-    const auto dir = fs::temp_directory_path() / "micromacro_packing_input_test";
-    fs::create_directories(dir);
-    const auto path = dir / name;
-    std::ofstream(path) << text;
-    return path.string();
+    return mmtest::write_file(fs::temp_directory_path() / "micromacro_packing_input_test", name, text);
 }
 
 template <class F>
