@@ -52,21 +52,83 @@ Run gas(const Law& law, double steps_per_tc, double duration_in_tc, double gamma
     r.dissipated = sim.books().dissipated() / e0;
     return r;
 }
+
+// An undamped compressed crystal in a periodic box (triangular in 2D, 12 x 12; face-centred cubic
+// in 3D, 4 x 4 x 4 cells: both rigid with central springs alone, unlike square lattices), its
+// particles pressed together by 1% of their radius and given random velocities that move them by
+// about 5% of the overlap: every contact stays closed and the motion is smooth and not chaotic,
+// so runs at two time steps follow the same trajectory and differ only by the integrator's error.
+template <int dim>
+Run crystal(double steps_per_tc, double duration_in_tc) {
+    using V = mm::Vec<dim>;
+    const double overlap = 0.01 * a_mean, spacing = 2 * a_mean - overlap, m = mm::sphere_mass(rho, a_mean);
+    std::vector<V> sites;
+    V box;
+    if constexpr (dim == 2) {
+        const int columns = 12, rows = 12;  // rows even: the offset rows close the periodic box
+        const double row_height = spacing * std::sqrt(3.0) / 2;
+        for (int r = 0; r < rows; ++r)
+            for (int c = 0; c < columns; ++c) sites.push_back(V((c + 0.25 + 0.5 * (r % 2)) * spacing, (r + 0.5) * row_height));
+        box = V(columns * spacing, rows * row_height);
+    } else {
+        const int cells = 4;
+        const double a = spacing * std::sqrt(2.0);  // cube edge: neighbours at a / sqrt(2)
+        const V basis[4] = {V(0, 0, 0), V(0.5, 0.5, 0), V(0.5, 0, 0.5), V(0, 0.5, 0.5)};
+        for (int i = 0; i < cells; ++i)
+            for (int j = 0; j < cells; ++j)
+                for (int l = 0; l < cells; ++l)
+                    for (const V& b : basis) sites.push_back(V(a * (V(i, j, l) + b + V::Constant(0.25))));
+        box = V::Constant(cells * a);
+    }
+    const mm::FrictionlessLinear law{mm::LinearSpringDashpot(k, 0.0)};
+    mm::Simulation<dim, mm::FrictionlessLinear> sim(law, mm::Domain<dim>::fully_periodic(V::Zero(), box));
+    const double tc = mm::contact_duration(k, 0.0, m / 2);
+    std::mt19937 rng(1);
+    std::normal_distribution<double> N(0, 0.05 * overlap * M_PI / tc);
+    for (const V& x : sites) {
+        sim.particles().add(x, a_mean, m);
+        for (int d = 0; d < dim; ++d) sim.particles().velocity().back()[d] = N(rng);
+    }
+    sim.set_time_step(tc / steps_per_tc);
+    sim.prepare();
+    const std::size_t contacts = sim.contact_count();
+    Run r{0.0, 0.0, 0.0};
+    const auto steps = static_cast<std::size_t>(duration_in_tc * steps_per_tc);
+    std::size_t samples = 0;
+    for (std::size_t s = 0; s < steps; s += 25, ++samples) {
+        sim.run(25);
+        BOOST_TEST_REQUIRE(sim.contact_count() == contacts);  // none opened: the premise of the test
+        const double residual = sim.energy_residual();
+        r.max_deviation = std::max(r.max_deviation, std::abs(residual));
+        r.rms_deviation += residual * residual;
+    }
+    r.rms_deviation = std::sqrt(r.rms_deviation / samples);
+    r.dissipated = sim.books().dissipated();
+    return r;
+}
 }  // namespace
 
+// Without damping the total energy stays bounded: in the gas (collisions, contacts opening and
+// closing) within 1% over 2000 contact durations. The integrator's O(dt^2) is measured on the
+// crystal: in the gas each run's deviation depends on which rare violent or grazing collisions
+// that run's chaotic trajectory meets, so the ratio of two runs at different time steps is not a
+// property of the integrator (over the gas's seeds 1-6 it ranged from 0.8 to 12, either way a
+// coin toss against any threshold; with seed 1 it happened to pass).
 BOOST_AUTO_TEST_CASE_TEMPLATE(undamped_energy_is_bounded_second_order, D, Dims) {
     const mm::FrictionlessLinear law{mm::LinearSpringDashpot(k, 0.0)};
-    // 1e5 steps at t_c/50 (2000 contact durations), 2e5 at t_c/100.
-    const double duration = 2000;
-    const Run coarse = gas<D::value>(law, 50, duration, 0.0);
-    const Run fine = gas<D::value>(law, 100, duration, 0.0);
-    BOOST_TEST_MESSAGE(D::value << "D undamped: max |dE|/E0 " << coarse.max_deviation << " at t_c/50, "
+    const Run gas_run = gas<D::value>(law, 50, 2000, 0.0);  // 1e5 steps
+    BOOST_TEST_MESSAGE(D::value << "D undamped gas: max |dE|/E0 " << gas_run.max_deviation << " at t_c/50");
+    BOOST_TEST(gas_run.dissipated == 0.0);
+    BOOST_TEST(gas_run.max_deviation < 1e-2);
+    // O(dt^2): the typical (rms) deviation falls 4x per halving of dt (measured 4.01 in 2D, 3.98 in 3D).
+    const Run coarse = crystal<D::value>(50, 200), fine = crystal<D::value>(100, 200);
+    BOOST_TEST_MESSAGE(D::value << "D undamped crystal: max |dE|/E0 " << coarse.max_deviation << " at t_c/50, "
                                 << fine.max_deviation << " at t_c/100; rms " << coarse.rms_deviation << ", "
                                 << fine.rms_deviation);
     BOOST_TEST(coarse.dissipated == 0.0);
-    BOOST_TEST(coarse.max_deviation < 1e-2);
-    // O(dt^2) and no drift on top: the typical (rms) deviation falls 4x per halving of dt.
-    BOOST_TEST(coarse.rms_deviation / fine.rms_deviation > 3.0);
+    BOOST_TEST(coarse.rms_deviation / fine.rms_deviation > 3.5);
+    BOOST_TEST(coarse.rms_deviation / fine.rms_deviation < 4.5);
+    BOOST_TEST(coarse.max_deviation / fine.max_deviation > 3.0);  // one sample in 25 steps: the peaks are sampled roughly
 }
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictionless, D, Dims) {
