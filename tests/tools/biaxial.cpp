@@ -75,14 +75,17 @@ BOOST_AUTO_TEST_CASE(contact_stress_matches_wall_stress_when_quasi_static) {
     }
 }
 
-// After the loading (means over the relaxation rows) the contacts and the stiffness point along
-// the compression. Measured over seeds 1-4: F_22 / F_11 from 1.13 to 1.26.
+// In the second half of the loading (strain 0.15-0.3) the stress, the contacts and the stiffness
+// point along the compression. Measured over seeds 1-4, with and without FMA contraction (eight
+// runs): sigma_22 / sigma_11 1.71-1.96, F_22 / F_11 1.31-1.43, C_n_2222 / C_n_1111 1.46-1.63. (The
+// relaxation after the loading is no place to assert it: in two of those eight runs the 600
+// particles rearranged and sigma_22 / sigma_11 fell to 0.94 and 1.00, F_22 / F_11 to 1.05.)
 BOOST_AUTO_TEST_CASE(anisotropy_against_the_compression) {
     const auto& s = physics_run();
-    auto late = [&](const std::string& key) { return mean_over(s, key, 0.3, 1.0); };
-    BOOST_TEST(late("F_22") > 1.05 * late("F_11"));
-    BOOST_TEST(late("C_n_2222") > 1.05 * late("C_n_1111"));
-    BOOST_TEST(late("sigma_22") > late("sigma_11"));
+    auto loaded = [&](const std::string& key) { return mean_over(s, key, 0.15, 0.3); };
+    BOOST_TEST(loaded("sigma_22") > 1.5 * loaded("sigma_11"));
+    BOOST_TEST(loaded("F_22") > 1.2 * loaded("F_11"));
+    BOOST_TEST(loaded("C_n_2222") > 1.3 * loaded("C_n_1111"));
 }
 
 // PAPER-NOTES section 4 in every row: C^t_1111 = C^t_2222 = alpha C^n_1122, C^t_1122 = -alpha
