@@ -39,6 +39,9 @@ for round in $(seq "$repeats"); do
 done
 field() { grep -o "\"$1\": [0-9.e+]*" "$2" | awk '{print $2}'; }
 median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+fma=$(grep -o '"fma": [a-z]*' "$out/0" | head -1 | awk '{print $2}')
+echo "$tp, fused multiply-adds (MICROMACRO_FMA): $fma"
+echo
 echo "| case | particles | contacts per particle | threads | particle-steps/s (median of $repeats) | speed-up over one thread | ns per contact | engine bytes per particle | peak RSS bytes per particle |"
 echo "|---|---|---|---|---|---|---|---|---|"
 for k in "${!cases[@]}"; do

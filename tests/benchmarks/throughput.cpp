@@ -101,6 +101,14 @@ void fill_lattice(std::vector<mm::Vec<dim>>& x, std::vector<double>& r, double& 
     }
 }
 
+// Whether the engine's arithmetic here fuses multiplies and adds (built with MICROMACRO_FMA, for a
+// CPU with FMA instructions): part of the configuration, it changes the speed and the last bits.
+#if defined(MICROMACRO_FP_CONTRACT) && defined(__FP_FAST_FMA)
+constexpr bool fused_multiply_add = true;
+#else
+constexpr bool fused_multiply_add = false;
+#endif
+
 template <int dim, class Real, class Law>
 int run(const Options& o, const Law& law, const char* law_name) {
     std::vector<mm::Vec<dim>> x;
@@ -172,11 +180,11 @@ int run(const Options& o, const Law& law, const char* law_name) {
                     "\"bytes_per_particle\": %.1f, \"storage_bytes_per_particle\": %.1f, \"threads\": %d, "
                     "\"precision\": \"%s\", \"law\": \"%s\", \"packing\": \"%s\", \"order\": \"%s\", \"periodic\": \"%s\", "
                     "\"k\": %.6g, \"gamma_n\": %.6g, \"kt\": %.6g, \"gamma_t\": %.6g, \"mu\": %.6g, \"density\": %.6g, "
-                    "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s}\n",
+                    "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s, \"fma\": %s}\n",
                     name, law_name, dim, sim.particles().size(), contacts, o.steps, seconds, pps, ns_contact, bytes, storage, o.threads,
                     o.precision.c_str(), law_name, o.packing.empty() ? "lattice" : json_escaped(o.packing).c_str(), order, periodic.c_str(), o.k,
                     o.gamma_n, friction ? o.kt : 0.0, friction ? o.gamma_t : 0.0, friction ? o.mu : 0.0, o.density, tc, dt,
-                    sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false");
+                    sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false", fused_multiply_add ? "true" : "false");
     else {
         std::printf("%s %s %dD: %zu particles, %zu contacts (coordination %.2f), %zu steps in %.3f s: %.3g particle-steps/s, "
                     "%.1f ns per contact, peak memory %.0f bytes per particle (engine arrays %.0f) (%d threads, %s)\n",
@@ -185,8 +193,8 @@ int run(const Options& o, const Law& law, const char* law_name) {
         std::printf("  packing %s (order %s, periodic axes '%s'); k %.6g N/m, gamma_n %.6g kg/s", o.packing.empty() ? "lattice" : o.packing.c_str(),
                     order, periodic.c_str(), o.k, o.gamma_n);
         if (friction) std::printf(", k_t %.6g N/m, gamma_t %.6g kg/s, mu %.6g", o.kt, o.gamma_t, o.mu);
-        std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s\n", o.density, tc, dt,
-                    tc / dt, sim.skin(), o.track_energy ? "on" : "off");
+        std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s; fused multiply-adds %s\n",
+                    o.density, tc, dt, tc / dt, sim.skin(), o.track_energy ? "on" : "off", fused_multiply_add ? "on" : "off");
     }
     return 0;
 }

@@ -86,8 +86,13 @@ BOOST_AUTO_TEST_CASE(json_line_carries_the_keys_and_the_configuration) {
     const auto j = run_json("--dim 3 --particles 27 --steps 3");
     for (const char* key : {"name", "dim", "particles", "contacts", "steps", "seconds", "particle_steps_per_second",
                             "bytes_per_particle", "threads", "precision", "law", "k", "kt", "mu", "gamma_n", "gamma_t",
-                            "density", "contact_duration", "dt", "skin", "energy_books", "periodic", "order"})
+                            "density", "contact_duration", "dt", "skin", "energy_books", "periodic", "order", "fma"})
         BOOST_TEST(j.contains(key), key);
+#if defined(MICROMACRO_FP_CONTRACT) && defined(__FP_FAST_FMA)
+    BOOST_TEST(j["fma"].get<bool>());  // the benchmark was built like this test
+#else
+    BOOST_TEST(!j["fma"].get<bool>());
+#endif
     BOOST_TEST(j["particles"].get<int>() == 27);
     BOOST_TEST(j["contacts"].get<int>() == 81);  // a periodic 3 x 3 x 3 cubic lattice: 3 contacts per particle
     BOOST_TEST(j["periodic"].get<std::string>() == "xyz");
