@@ -3,7 +3,8 @@
 #   scripts/setup.sh run    install what is missing, build, run the project's main job
 #                           (the biaxial test, quick preset, into runs/quick or $OUT)
 #   scripts/setup.sh test   install what is missing, build, run the whole test suite
-# Environment: BUILD_DIR (default build), JOBS (default: number of cores).
+# Environment: BUILD_DIR (default build), JOBS (default: number of cores), CMAKE_ARGS (more
+# configure options, e.g. CMAKE_ARGS=-DMICROMACRO_FMA=ON with BUILD_DIR=build-fma).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -24,7 +25,8 @@ fi
 
 build=${BUILD_DIR:-build}
 jobs=${JOBS:-$(nproc)}
-cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DMICROMACRO_WERROR=ON
+read -r -a cmake_args <<<"${CMAKE_ARGS:-}"
+cmake -S . -B "$build" -DCMAKE_BUILD_TYPE=Release -DMICROMACRO_WERROR=ON "${cmake_args[@]}"
 cmake --build "$build" -j "$jobs"
 
 if [ "$mode" = run ]; then
