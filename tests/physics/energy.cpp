@@ -7,7 +7,9 @@
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <numbers>
 #include <random>
+#include <vector>
 
 #include "support/scenes.hpp"
 
@@ -84,7 +86,7 @@ Run crystal(double steps_per_tc, double duration_in_tc) {
     mm::Simulation<dim, mm::FrictionlessLinear> sim(law, mm::Domain<dim>::fully_periodic(V::Zero(), box));
     const double tc = mm::contact_duration(k, 0.0, m / 2);
     std::mt19937 rng(1);
-    std::normal_distribution<double> N(0, 0.05 * overlap * M_PI / tc);
+    std::normal_distribution<double> N(0, 0.05 * overlap * std::numbers::pi / tc);
     for (const V& x : sites) {
         sim.particles().add(x, a_mean, m);
         for (int d = 0; d < dim; ++d) sim.particles().velocity().back()[d] = N(rng);
