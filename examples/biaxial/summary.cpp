@@ -5,7 +5,9 @@
 // Reads DIR/timeseries.csv and DIR/run.json. The peak is the row of the largest stress ratio
 // (sigma_zz - sigma_xx) / (sigma_zz + sigma_xx) of the inner box during the motion; the
 // "critical state" values are means over the last quarter of the motion (eps_zz from 3/4 of
-// the final strain on).
+// the final strain on). The swings of the stress are taken over the middle 60% of the motion
+// (t from 0.2 to 0.8 of its duration): the 5th and 95th percentiles of single rows, and the
+// upward crossings of sigma_zz through its centred 25-row running mean, which give the mean period.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -69,6 +71,31 @@ int main(int argc, char** argv) {
                 late_mean([&](std::size_t r) { return col.at("deviatoric_fabric")[r]; }), late_mean(C_ratio));
     std::printf("| late coordination, volume fraction | %.3f, %.4f |\n", late_mean([&](std::size_t r) { return col.at("coordination")[r]; }),
                 late_mean([&](std::size_t r) { return col.at("volume_fraction")[r]; }));
+    // tr F at the start, its highest value in the first 1e-4 of strain, and at the first row past 0.006.
+    const auto& trF = col.at("trF");
+    std::size_t early_high = 0, past = 0;
+    for (std::size_t r = 0; r < ezz.size() && ezz[r] <= 1e-4; ++r)
+        if (trF[r] > trF[early_high]) early_high = r;
+    while (past + 1 < ezz.size() && ezz[past] < 0.006) ++past;
+    std::printf("| tr F (start; highest before eps_zz = 1e-4; first row past eps_zz = 0.006) | %.3f; %.3f at eps_zz = %.2g; %.3f at %.4f |\n",
+                trF[0], trF[early_high], ezz[early_high], trF[past], ezz[past]);
+    const auto& time = col.at("time");
+    const double t_end = time[motion_end];
+    std::vector<double> ratios, szz;
+    std::size_t first = motion_end, last = 0;
+    for (std::size_t r = 0; r <= motion_end; ++r)
+        if (time[r] >= 0.2 * t_end && time[r] <= 0.8 * t_end) {
+            ratios.push_back(ratio(r));
+            szz.push_back(col.at("sigma_" + z)[r]);
+            first = std::min(first, r);
+            last = r;
+        }
+    const int crossings = biaxial::upward_crossings(col.at("sigma_" + z), biaxial::running_mean(col.at("sigma_" + z), 25), first, last);
+    std::printf("| middle 60%% of the motion (t = %.3g-%.3g s): stress ratio, 5th and 95th percentiles | %.3f, %.3f |\n",
+                time[first], time[last], biaxial::quantile(ratios, 0.05), biaxial::quantile(ratios, 0.95));
+    std::printf("| there: sigma_zz, 5th and 95th percentiles; upward crossings of its 25-row running mean, mean period | %.1f, %.1f N/m; %d, %.2g s |\n",
+                biaxial::quantile(szz, 0.05), biaxial::quantile(szz, 0.95), crossings,
+                crossings > 0 ? (time[last] - time[first]) / crossings : NAN);
     std::printf("| cost | %.0f s wall, %.3g particle-steps/s, %.3g steps |\n", double(run["timing"]["wall_seconds"]),
                 double(run["timing"]["particle_steps_per_second"]), double(run["timing"]["steps"]));
     return 0;

@@ -1,5 +1,8 @@
 #pragma once
-// Reading a biaxial timeseries.csv back: columns by name (comment lines skipped).
+// Reading a biaxial timeseries.csv back: columns by name (comment lines skipped); and the few
+// statistics biaxial_summary takes of a column.
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -26,6 +29,36 @@ inline std::map<std::string, std::vector<double>> read_timeseries(const std::str
         for (std::size_t i = 0; i < fields.size() && i < names.size(); ++i) columns[names[i]].push_back(std::stod(fields[i]));
     }
     return columns;
+}
+
+/// The p-quantile (0 <= p <= 1) of `values` by the lower nearest rank: the element at
+/// floor(p (n - 1)) of the sorted values. NaN for no values.
+inline double quantile(std::vector<double> values, double p) {
+    if (values.empty()) return NAN;
+    const auto k = static_cast<std::size_t>(std::floor(p * double(values.size() - 1)));
+    std::nth_element(values.begin(), values.begin() + k, values.end());
+    return values[k];
+}
+
+/// The centred running mean of `v` over `width` rows (odd), over fewer rows at the ends.
+inline std::vector<double> running_mean(const std::vector<double>& v, int width) {
+    const auto half = static_cast<std::ptrdiff_t>(width / 2), n = static_cast<std::ptrdiff_t>(v.size());
+    std::vector<double> mean(v.size());
+    for (std::ptrdiff_t r = 0; r < n; ++r) {
+        const std::ptrdiff_t lo = std::max<std::ptrdiff_t>(0, r - half), hi = std::min(n, r + half + 1);
+        double sum = 0.0;
+        for (std::ptrdiff_t k = lo; k < hi; ++k) sum += v[k];
+        mean[r] = sum / double(hi - lo);
+    }
+    return mean;
+}
+
+/// How often `v` rises through `level` (a running mean, say) in rows first+1 .. last: row r
+/// counts when v[r - 1] < level[r - 1] and v[r] >= level[r].
+inline int upward_crossings(const std::vector<double>& v, const std::vector<double>& level, std::size_t first, std::size_t last) {
+    int count = 0;
+    for (std::size_t r = first + 1; r <= last && r < v.size(); ++r) count += v[r - 1] < level[r - 1] && v[r] >= level[r];
+    return count;
 }
 
 }  // namespace biaxial

@@ -8,6 +8,8 @@
 #include <filesystem>
 #include <fstream>
 #include <map>
+#include <numbers>
+#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -234,4 +236,32 @@ BOOST_AUTO_TEST_CASE(triaxial_box) {
         const double residual = C("kinetic_energy") + C("elastic_energy") + C("dissipated_energy") - C("work_by_walls");
         BOOST_TEST_REQUIRE(std::abs(residual) < 1e-2 * C("work_by_walls"));
     }
+}
+
+// biaxial_summary's statistics of a column, on series with known answers.
+BOOST_AUTO_TEST_CASE(summary_statistics) {
+    std::vector<double> descending(101);
+    std::iota(descending.rbegin(), descending.rend(), 1.0);  // 101, 100, ..., 1
+    BOOST_TEST(biaxial::quantile(descending, 0.05) == 6.0);  // the 6th smallest of 101
+    BOOST_TEST(biaxial::quantile(descending, 0.95) == 96.0);
+    BOOST_TEST(biaxial::quantile(descending, 0.0) == 1.0);
+    BOOST_TEST(biaxial::quantile(descending, 1.0) == 101.0);
+    BOOST_TEST(std::isnan(biaxial::quantile({}, 0.5)));
+
+    std::vector<double> ramp(101);
+    std::iota(ramp.begin(), ramp.end(), 1.0);
+    const auto mean = biaxial::running_mean(ramp, 25);
+    BOOST_TEST(mean[50] == 51.0);   // inside: the ramp itself
+    BOOST_TEST(mean[0] == 7.0);     // the first 13 rows, 1 .. 13
+    BOOST_TEST(mean[100] == 95.0);  // the last 13, 89 .. 101
+
+    // A sine of period 25 rows: its running mean over one period vanishes, and it rises through
+    // it once per period, at rows 25, 50, ... (the phase puts its zeros between rows). Rows 13 to
+    // 987, where the mean spans a whole period, hold 39 such rises.
+    std::vector<double> wave(1000);
+    for (std::size_t r = 0; r < wave.size(); ++r) wave[r] = std::sin(2 * std::numbers::pi * (double(r) + 0.3) / 25);
+    const auto level = biaxial::running_mean(wave, 25);
+    BOOST_TEST(std::abs(level[500]) < 1e-12);
+    BOOST_TEST(biaxial::upward_crossings(wave, level, 12, 987) == 39);
+    BOOST_TEST(biaxial::upward_crossings(wave, level, 25, 50) == 1);  // row 25 itself needs row 24 before it
 }
