@@ -93,8 +93,8 @@ int main(int argc, char** argv) {
     const int crossings = biaxial::upward_crossings(col.at("sigma_" + z), biaxial::running_mean(col.at("sigma_" + z), 25), first, last);
     std::printf("| middle 60%% of the motion (t = %.3g-%.3g s): stress ratio, 5th and 95th percentiles | %.3f, %.3f |\n",
                 time[first], time[last], biaxial::quantile(ratios, 0.05), biaxial::quantile(ratios, 0.95));
-    std::printf("| there: sigma_zz, 5th and 95th percentiles; upward crossings of its 25-row running mean, mean period | %.1f, %.1f N/m; %d, %.2g s |\n",
-                biaxial::quantile(szz, 0.05), biaxial::quantile(szz, 0.95), crossings,
+    std::printf("| there: sigma_zz, 5th and 95th percentiles; upward crossings of its 25-row running mean, mean period | %.1f, %.1f %s; %d, %.2g s |\n",
+                biaxial::quantile(szz, 0.05), biaxial::quantile(szz, 0.95), dim == 2 ? "N/m" : "Pa", crossings,
                 crossings > 0 ? (time[last] - time[first]) / crossings : NAN);
     std::printf("| cost | %.0f s wall, %.3g particle-steps/s, %.3g steps |\n", double(run["timing"]["wall_seconds"]),
                 double(run["timing"]["particle_steps_per_second"]), double(run["timing"]["steps"]));
