@@ -6,6 +6,7 @@
 #define BOOST_TEST_MODULE physics_energy
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <random>
@@ -21,6 +22,23 @@ struct Run {
     double rms_deviation;  // the same, root mean square over the samples
     double dissipated;     // fraction of E0
 };
+
+// Runs `steps` steps and samples the energy residual every 25: its largest magnitude and its root
+// mean square (the dissipated energy is the caller's to fill in). check() runs at every sample.
+template <class Sim, class Check>
+Run sample_energy(Sim& sim, std::size_t steps, Check check) {
+    Run r{0.0, 0.0, 0.0};
+    std::size_t samples = 0;
+    for (std::size_t s = 0; s < steps; s += 25, ++samples) {
+        sim.run(25);
+        check();
+        const double residual = sim.energy_residual();
+        r.max_deviation = std::max(r.max_deviation, std::abs(residual));
+        r.rms_deviation += residual * residual;
+    }
+    r.rms_deviation = std::sqrt(r.rms_deviation / samples);
+    return r;
+}
 
 // A periodic gas of polydisperse particles (paper radii) with random velocities: many
 // collisions, some with three or more partners at once.
@@ -41,16 +59,7 @@ Run gas(const Law& law, double steps_per_tc, double duration_in_tc, double gamma
     sim.set_time_step(tc / steps_per_tc);
     sim.prepare();
     const double e0 = sim.energy().total();
-    Run r{0.0, 0.0, 0.0};
-    const auto steps = static_cast<std::size_t>(duration_in_tc * steps_per_tc);
-    std::size_t samples = 0;
-    for (std::size_t s = 0; s < steps; s += 25, ++samples) {
-        sim.run(25);
-        const double residual = sim.energy_residual();
-        r.max_deviation = std::max(r.max_deviation, std::abs(residual));
-        r.rms_deviation += residual * residual;
-    }
-    r.rms_deviation = std::sqrt(r.rms_deviation / samples);
+    Run r = sample_energy(sim, static_cast<std::size_t>(duration_in_tc * steps_per_tc), [] {});
     r.dissipated = sim.books().dissipated() / e0;
     return r;
 }
@@ -94,17 +103,9 @@ Run crystal(double steps_per_tc, double duration_in_tc) {
     sim.set_time_step(tc / steps_per_tc);
     sim.prepare();
     const std::size_t contacts = sim.contact_count();
-    Run r{0.0, 0.0, 0.0};
-    const auto steps = static_cast<std::size_t>(duration_in_tc * steps_per_tc);
-    std::size_t samples = 0;
-    for (std::size_t s = 0; s < steps; s += 25, ++samples) {
-        sim.run(25);
+    Run r = sample_energy(sim, static_cast<std::size_t>(duration_in_tc * steps_per_tc), [&] {
         BOOST_TEST_REQUIRE(sim.contact_count() == contacts);  // none opened: the premise of the test
-        const double residual = sim.energy_residual();
-        r.max_deviation = std::max(r.max_deviation, std::abs(residual));
-        r.rms_deviation += residual * residual;
-    }
-    r.rms_deviation = std::sqrt(r.rms_deviation / samples);
+    });
     r.dissipated = sim.books().dissipated();
     return r;
 }
