@@ -33,6 +33,7 @@
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
 
 #include <micromacro/io/packing_files.hpp>
 #include <micromacro/micromacro.hpp>
@@ -66,20 +67,10 @@ double peak_rss_bytes() {
     return 1024.0 * static_cast<double>(u.ru_maxrss);  // Linux reports kilobytes
 }
 
-// A file name as a JSON string's contents (the program prints its JSON by hand).
-std::string json_escaped(const std::string& text) {
-    std::string out;
-    for (char c : text) {
-        if (c == '"' || c == '\\') out += '\\';
-        if (static_cast<unsigned char>(c) < 0x20) {
-            char code[8];
-            std::snprintf(code, sizeof code, "\\u%04x", c);
-            out += code;
-        } else {
-            out += c;
-        }
-    }
-    return out;
+// A file name as a JSON string, quotes included (the program prints its JSON line by hand; bytes
+// that are not UTF-8 become U+FFFD instead of an exception).
+std::string json_string(const std::string& text) {
+    return nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
 template <int dim>
@@ -178,11 +169,11 @@ int run(const Options& o, const Law& law, const char* law_name) {
         std::printf("{\"name\": \"%s-%s\", \"dim\": %d, \"particles\": %zu, \"contacts\": %zu, \"steps\": %zu, "
                     "\"seconds\": %.6g, \"particle_steps_per_second\": %.6g, \"ns_per_contact\": %.4g, "
                     "\"bytes_per_particle\": %.1f, \"storage_bytes_per_particle\": %.1f, \"threads\": %d, "
-                    "\"precision\": \"%s\", \"law\": \"%s\", \"packing\": \"%s\", \"order\": \"%s\", \"periodic\": \"%s\", "
+                    "\"precision\": \"%s\", \"law\": \"%s\", \"packing\": %s, \"order\": \"%s\", \"periodic\": \"%s\", "
                     "\"k\": %.6g, \"gamma_n\": %.6g, \"kt\": %.6g, \"gamma_t\": %.6g, \"mu\": %.6g, \"density\": %.6g, "
                     "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s, \"fma\": %s}\n",
                     name, law_name, dim, sim.particles().size(), contacts, o.steps, seconds, pps, ns_contact, bytes, storage, o.threads,
-                    o.precision.c_str(), law_name, o.packing.empty() ? "lattice" : json_escaped(o.packing).c_str(), order, periodic.c_str(), o.k,
+                    o.precision.c_str(), law_name, json_string(o.packing.empty() ? "lattice" : o.packing).c_str(), order, periodic.c_str(), o.k,
                     o.gamma_n, friction ? o.kt : 0.0, friction ? o.gamma_t : 0.0, friction ? o.mu : 0.0, o.density, tc, dt,
                     sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false", fused_multiply_add ? "true" : "false");
     else {
