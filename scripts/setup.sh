@@ -4,7 +4,7 @@
 #                           (the biaxial test, quick preset, into runs/quick or $OUT)
 #   scripts/setup.sh test   install what is missing, build, run the whole test suite
 # Environment: BUILD_DIR (default build), JOBS (default: number of cores), CMAKE_ARGS (more
-# configure options, e.g. CMAKE_ARGS=-DMICROMACRO_FMA=ON with BUILD_DIR=build-fma).
+# configure options, e.g. CMAKE_ARGS=-DMICROMACRO_FMA=OFF with BUILD_DIR=build-no-fma).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
