@@ -9,7 +9,9 @@
 #   PROGRAM=biaxial scripts/side_by_side.sh COMMIT "--preset paper --vtk-every 0" 2
 # throughput compares particle-steps per second (ratio > 1: this build is faster); biaxial
 # compares the wall seconds of whole runs (each into a temporary directory, no pictures;
-# ratio < 1: this build is faster).
+# ratio < 1: this build is faster). OTHER_CMAKE_ARGS configures the other commit's build, e.g.
+#   OTHER_CMAKE_ARGS=-DMICROMACRO_FMA=OFF scripts/side_by_side.sh HEAD "ARGS" 9
+# times this build against the same commit without fused multiply-adds.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 commit=$1 args=$2 reps=${3:-5}
@@ -24,7 +26,8 @@ new=${BUILD_DIR:-build}/$target
 tree=$(mktemp -d) out=$(mktemp -d)
 trap 'git worktree remove --force "$tree" >/dev/null 2>&1 || true; rm -rf "$out"' EXIT
 git worktree add -q -f --detach "$tree" "$commit"
-cmake -S "$tree" -B "$tree/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+read -r -a other_cmake_args <<<"${OTHER_CMAKE_ARGS:-}"
+cmake -S "$tree" -B "$tree/build" -DCMAKE_BUILD_TYPE=Release "${other_cmake_args[@]}" >/dev/null
 cmake --build "$tree/build" -j2 --target "$program" >/dev/null
 old=$tree/build/$target
 measure() {
@@ -48,5 +51,5 @@ done
 mo=$(printf '%s\n' "${o[@]}" | median) mn=$(printf '%s\n' "${n[@]}" | median) mq=$(printf '%s\n' "${q[@]}" | median)
 unit="particle-steps/s"
 [ "$program" = biaxial ] && unit="s"
-echo "$program $args ($unit): $commit ${o[*]}; this build ${n[*]}"
+echo "$program $args ($unit): $commit${OTHER_CMAKE_ARGS:+ ($OTHER_CMAKE_ARGS)} ${o[*]}; this build ${n[*]}"
 echo "medians $mo and $mn, ratio $(awk -v a="$mn" -v b="$mo" 'BEGIN {printf "%.3f", a / b}'); median of the pairs' ratios $(awk -v q="$mq" 'BEGIN {printf "%.3f", q}') ($reps pairs)"
