@@ -2,8 +2,8 @@
 # Two threads against one, for the speed issue's cases with N >= 20 000: each round runs a case on
 # one thread and on two, back to back (which goes first alternates), and the speed-up is the ratio
 # of that pair. The host is shared: whether its second core is free changes a two-thread run by up
-# to 30% from one second to the next, while one-thread runs barely move, so single ratios scatter
-# widely and only the median of many pairs says what the code does. Prints, per case, the median,
+# to half from one second to the next (single ratios of 1.10x to 2.46x were seen), so only the
+# median of many pairs says what the code does. Prints, per case, the median,
 # the lowest and the highest ratio. Needs a build.
 #   scripts/thread_scaling.sh               # 16 rounds, about a minute on 2 cores
 #   ROUNDS=32 scripts/thread_scaling.sh
