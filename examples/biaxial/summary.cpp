@@ -38,10 +38,9 @@ int main(int argc, char** argv) {
     const std::string z = dim == 2 ? "22" : "33", zzzz = dim == 2 ? "2222" : "3333";
     const double final_strain = run["parameters"]["final_strain"];
     const auto& ezz = col.at("strain_" + z);
-    auto ratio = [&](std::size_t r) {
-        const double a = col.at("sigma_" + z)[r], b = col.at("sigma_11")[r];
-        return (a - b) / (a + b);
-    };
+    const auto& sigma_zz = col.at("sigma_" + z);  // the compressed axis
+    const auto& sigma_11 = col.at("sigma_11");
+    auto ratio = [&](std::size_t r) { return (sigma_zz[r] - sigma_11[r]) / (sigma_zz[r] + sigma_11[r]); };
     std::size_t peak = 0, fabric_peak = 0, motion_end = 0;
     for (std::size_t r = 0; r < ezz.size(); ++r) {
         if (ezz[r] < final_strain - 1e-12) motion_end = r;
@@ -86,11 +85,11 @@ int main(int argc, char** argv) {
     for (std::size_t r = 0; r <= motion_end; ++r)
         if (time[r] >= 0.2 * t_end && time[r] <= 0.8 * t_end) {
             ratios.push_back(ratio(r));
-            szz.push_back(col.at("sigma_" + z)[r]);
+            szz.push_back(sigma_zz[r]);
             first = std::min(first, r);
             last = r;
         }
-    const int crossings = biaxial::upward_crossings(col.at("sigma_" + z), biaxial::running_mean(col.at("sigma_" + z), 25), first, last);
+    const int crossings = biaxial::upward_crossings(sigma_zz, biaxial::running_mean(sigma_zz, 25), first, last);
     std::printf("| middle 60%% of the motion (t = %.3g-%.3g s): stress ratio, 5th and 95th percentiles | %.3f, %.3f |\n",
                 time[first], time[last], biaxial::quantile(ratios, 0.05), biaxial::quantile(ratios, 0.95));
     std::printf("| there: sigma_zz, 5th and 95th percentiles; upward crossings of its 25-row running mean, mean period | %.1f, %.1f %s; %d, %.2g s |\n",
