@@ -228,6 +228,7 @@ public:
         }
         rebuild_neighbors();
         if (steps_ == 0) {
+            step_back_springs();  // prepare() called again before the first step
             compute_forces();
             initial_energy_ = track_energy_ ? energy().total() : 0.0;
             books_ = {};  // the first evaluation only opens the books
@@ -374,6 +375,7 @@ public:
         }
         if (track_energy_) compute_forces_impl<true>();
         else compute_forces_impl<false>();
+        evaluated_dt_ = dt_;
     }
 
     // ---- state and analysis ------------------------------------------------------------------
@@ -521,6 +523,7 @@ public:
         ar.value(previous_step_books_);
         ar.value(initial_energy_);
         ar.value(dt_);
+        ar.value(evaluated_dt_);
         ar.value(skin_);
         ar.value(time_);
         ar.value(steps_);
@@ -575,7 +578,8 @@ private:
         Response out{fn.total() * n, V::Zero(), fn.total()};
         if constexpr (has_tangential) {
             if (smooth) return out;  // a frictionless wall: normal part only
-            const auto ft = law.tangential.template force<dim, track>(n, relative_velocity, normal_velocity, fn.total(), dt, *h);
+            const auto ft = law.tangential.template force<dim, track>(n, relative_velocity, normal_velocity, fn.total(), overlap,
+                                                                               dt, *h);
             if constexpr (track) {
                 books.dissipated_tangential += ft.dissipated_viscous;
                 books.dissipated_sliding += ft.dissipated_sliding;
@@ -775,8 +779,33 @@ private:
     // deformation): it adds nothing to the books, it only restarts the trapezoid.
     void compute_forces_without_books() {
         const EnergyBooks kept = books_;
+        step_back_springs();
         compute_forces();
         books_ = kept;
+    }
+
+    // Before the same instant is evaluated again: every spring back to where the last evaluation
+    // found it (see CundallStrack::step_back), so the new evaluation does not advance it twice.
+    void step_back_springs() {
+        if constexpr (has_tangential) {
+            if (!(evaluated_dt_ > 0.0)) return;  // nothing evaluated yet
+            const auto& x = particles_.position();
+            for (std::size_t c = 0; c < pairs_.size(); ++c) {
+                const auto [i, j] = pairs_.pairs()[c];
+                const V d = domain_.separation(convert<double>(x[i]), convert<double>(x[j]));
+                const double dist = d.norm();
+                if (dist == 0.0) continue;
+                const V n = d * (1.0 / dist);
+                law_.tangential.step_back(n, relative_velocity(i, j, n), evaluated_dt_, dt_, pairs_.history(c));
+            }
+            if constexpr (has_walls)
+                for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
+                    const auto [i, w] = wall_contacts_.pairs()[c];
+                    const auto& wall = walls_[w];
+                    law_.tangential.step_back(wall.normal, wall_relative_velocity(i, wall), evaluated_dt_, dt_,
+                                              wall_contacts_.history(c));
+                }
+        }
     }
 
     // What an evaluation's forces dissipate, rate x dt, is booked half now and half at the next
@@ -851,8 +880,8 @@ private:
         c.elastic_energy = law_.normal.elastic_energy(overlap);
         if constexpr (has_tangential) {
             if (smooth) return c;
-            c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), *h);
-            c.elastic_energy += law_.tangential.elastic_energy(*h);
+            c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), evaluated_dt_, *h);
+            c.elastic_energy += law_.tangential.elastic_energy(law_.tangential.present_spring(n, vr, evaluated_dt_, *h));
             c.sliding = h->sliding;
         }
         return c;
@@ -1026,6 +1055,7 @@ private:
     std::vector<WallBooks> wall_books_;
     double initial_energy_ = 0.0;
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
+    double evaluated_dt_ = 0.0;  // the step of the last force evaluation: the springs run half of it ahead
     std::size_t steps_ = 0, rebuilds_ = 0;
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
     bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick

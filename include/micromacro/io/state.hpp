@@ -18,7 +18,8 @@ namespace micromacro::io {
 
 namespace detail {
 inline constexpr char state_magic[] = "MICROMACRO-STATE";
-inline constexpr std::uint32_t state_version = 1;
+// 2: tangential springs stored half a step ahead, with a flag for contacts already evaluated
+inline constexpr std::uint32_t state_version = 2;
 
 class StateWriter {
 public:
