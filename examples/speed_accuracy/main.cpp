@@ -387,6 +387,8 @@ int main(int argc, char** argv) {
             md << "| t_c(" << (r.base == "mean pair" ? "mean" : "smallest") << ")/" << r.fraction << " | " << r.integrator << " | "
                << format("%.1f", r.steps_per_contact) << " | " << percent(r.e_error_mean) << " | " << percent(r.tc_error_mean) << " | "
                << percent(r.e_error_small) << " | " << percent(r.tc_error_small) << " |\n";
+        md << "\nOblique frictional impacts, the tangential spring's error against dt: `oblique-impacts.md` "
+           << "(`build/examples/oblique_impacts --out docs/oblique-impacts.md`).\n";
 
         md << "\n## Biaxial quick preset against a converged reference\n\n"
            << "Each row is the mean over " << seeds << " packing" << (seeds > 1 ? "s" : "") << " (seeds 1.." << seeds

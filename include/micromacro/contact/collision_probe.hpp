@@ -1,7 +1,8 @@
 #pragma once
-// Measures what a normal collision really does in the simulation, for comparison with the
-// closed form of Eq. 22: two particles meet head-on, and the probe records how long the overlap
-// stays positive and the ratio of the relative normal speeds after and before.
+// Measures what a collision really does in the simulation. Head-on, for comparison with the
+// closed form of Eq. 22: how long the overlap stays positive and the ratio of the relative normal
+// speeds after and before. Oblique, with friction: the spin and the tangential velocity it leaves,
+// for the convergence of the tangential spring (no closed form: compare with a much smaller step).
 #include <cmath>
 
 #include "micromacro/contact/contact_law.hpp"
@@ -58,6 +59,58 @@ CollisionMeasurement measure_normal_collision(const LinearSpringDashpot& law, do
     sim.step();  // leave the contact completely
     const double v_after = convert<double>(p.velocity()[1])[0] - convert<double>(p.velocity()[0])[0];
     return {end - start, v_after / v, sim.steps_done()};
+}
+
+/// What an oblique frictional impact leaves behind (3D vectors; in 2D the spin is along z and
+/// the velocity's third component is zero).
+struct ObliqueImpact {
+    Vec<3> target_spin;     ///< angular velocity of the particle that was at rest, rad/s
+    Vec<3> across;          ///< relative velocity v_1 - v_0 across the direction of flight (x), m/s
+    std::size_t steps;      ///< steps simulated
+};
+
+/// Two equal particles (mass m, radius a, `law` with its friction): particle 0 at rest, particle 1
+/// arriving along x at `speed` with impact parameter b, offset along y in 2D and along
+/// (0, cos 30, sin 30) in 3D, where it also spins at `spin` rad/s about its direction of flight
+/// (so the spring turns in its tangent plane). The surfaces meet `entry_phase` (0..1] of a step
+/// before the fourth step ends; the run stops two contact durations after that, parted.
+template <int dim, class Law, class Integrator = VelocityVerlet>
+ObliqueImpact measure_oblique_impact(const Law& law, double m, double a, double speed, double b, double dt,
+                                     double entry_phase = 0.5, double spin = 0.0) {
+    detail::require_positive(speed, "approach speed", "the particles must approach");
+    if (!(b >= 0.0 && b < 2.0 * a))
+        detail::throw_input_error("impact parameter ", b, " is outside [0, 2a) = [0, ", 2.0 * a, "); the particles would miss");
+    if (!(entry_phase > 0.0 && entry_phase <= 1.0))
+        detail::throw_input_error("entry phase ", entry_phase, " is outside (0, 1]; it is the fraction of a step in contact");
+    using V = Vec<dim>;
+    BasicSimulation<dim, double, Law, NoWalls, Integrator, BruteForce> sim(law);
+    sim.set_time_step(dt);
+    V offset = V::Zero();
+    if constexpr (dim == 2) offset[1] = b;
+    else offset = b * V(0.0, std::sqrt(3.0) / 2, 0.5);
+    const double touch_x = -std::sqrt(4.0 * a * a - b * b);  // where the surfaces meet
+    const double meet = (4.0 - entry_phase) * dt;
+    V start = offset;
+    start[0] = touch_x - speed * meet;
+    auto& p = sim.particles();
+    p.add(V::Zero(), a, m);
+    p.add(start, a, m);
+    p.velocity()[1][0] = speed;
+    if constexpr (dim == 3 && Law::needs_rotation) p.template get<field::AngularVelocity>()[1] = V(spin, 0.0, 0.0);
+    sim.set_skin(0.5 * a);
+    const double tc = contact_duration(law.normal.stiffness(), law.normal.damping(), m / 2);
+    sim.run(static_cast<std::size_t>((meet + 2.0 * tc) / dt) + 2);
+    if (sim.contact_count() != 0)
+        throw SimulationError("measure_oblique_impact: the particles are still in contact two contact durations after they met");
+    ObliqueImpact out{Vec<3>::Zero(), Vec<3>::Zero(), sim.steps_done()};
+    if constexpr (Law::needs_rotation) {
+        const auto w = p.template get<field::AngularVelocity>()[0];
+        if constexpr (dim == 2) out.target_spin.z() = w;
+        else out.target_spin = w;
+    }
+    const V dv = p.velocity()[1] - p.velocity()[0];
+    out.across.template head<dim - 1>() = dv.template tail<dim - 1>();
+    return out;
 }
 
 }  // namespace micromacro

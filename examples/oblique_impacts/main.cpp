@@ -1,0 +1,196 @@
+// oblique_impacts: how accurately the tangential spring resolves an oblique frictional impact at
+// each time step, measured and written as docs/oblique-impacts.md.
+//
+//   oblique_impacts --out docs/oblique-impacts.md   (seconds)
+//
+// Two equal spheres (a = 1 mm, rho = 2000 kg/m^3, k = 1e5 N/m, k_t = 2e4 N/m, no dashpots), one at
+// rest, the other arriving at 0.5 m/s with impact parameter b (the cases of a side-by-side
+// comparison with LAMMPS's gran/hooke/history). The spin and the tangential velocity they part
+// with are compared with the same impact at t_c/12800, over entry phases spread evenly through
+// a step (where in a step the surfaces meet decides much of the error at coarse steps). Two
+// tangential updates: the library's (the trapezoid in the tangential velocity, the spring stored
+// half a step ahead also after sliding, a new contact started at the time of touch) and, for
+// comparison, the common first-order one (Eq. 26 with xi + v_t dt/2, the spring advanced by the
+// end-of-step velocity, put at the Coulomb limit after sliding, a new contact half a step in).
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include <micromacro/micromacro.hpp>
+
+namespace mm = micromacro;
+
+namespace {
+
+/// The first-order update, for comparison only: the library's law with its force() replaced.
+class EndOfStepSpring : public mm::CundallStrack {
+public:
+    using CundallStrack::CundallStrack;
+    template <int dim, bool track_energy>
+    mm::TangentialForce<dim> force(const mm::Vec<dim>& n, const mm::Vec<dim>& relative_velocity, double normal_velocity,
+                                   double normal_force, double /*overlap*/, double dt, History<dim>& h) const {
+        using V = mm::Vec<dim>;
+        mm::TangentialForce<dim> out;
+        const V stored = h.spring - n * n.dot(h.spring);
+        const V vt = relative_velocity - n * normal_velocity;
+        const V trial = -stiffness() * V(stored + (0.5 * dt) * vt) - damping() * vt;
+        const double fn = std::max(normal_force, 0.0), trial_sq = trial.squaredNorm();
+        const double static_limit = mu_static() * fn, dynamic_limit = mu_dynamic() * fn;
+        const bool sliding = trial_sq > static_limit * static_limit ||
+                             (h.sliding && trial_sq >= dynamic_limit * dynamic_limit && vt.dot(stored) >= 0.0);
+        if (!sliding) {
+            out.force = trial;
+            h.spring = stored + dt * vt;
+        } else {
+            const double magnitude = std::sqrt(trial_sq);
+            const V t = magnitude > 0.0 ? V(trial / magnitude) : V(V::Zero());
+            out.force = dynamic_limit * t;
+            h.spring = -(dynamic_limit / stiffness()) * t;
+        }
+        h.sliding = sliding;
+        h.touching = true;
+        out.sliding = sliding;
+        return out;
+    }
+};
+
+constexpr double a = 1e-3, rho = 2000.0, k = 1e5, kt = 2e4, speed = 0.5;
+
+template <int dim, class Tangential>
+mm::ObliqueImpact impact(double b, double mu, double steps_per_tc, double phase) {
+    using Law = mm::ContactLaw<mm::LinearSpringDashpot, Tangential>;
+    const double m = mm::sphere_mass(rho, a);
+    const Law law{mm::LinearSpringDashpot(k, 0.0), Tangential(kt, 0.0, mu)};
+    const double dt = mm::contact_duration(k, 0.0, m / 2) / steps_per_tc;
+    return mm::measure_oblique_impact<dim>(law, m, a, speed, b, dt, phase, 300.0);
+}
+
+struct Errors {
+    double spin_max = 0, spin_rms = 0, across_max = 0, across_rms = 0;
+};
+
+template <int dim, class Tangential>
+Errors errors(double b, double mu, double steps_per_tc, int phases) {
+    Errors e;
+    for (int p = 0; p < phases; ++p) {
+        const double phase = (p + 0.5) / phases;
+        const auto ref = impact<dim, mm::CundallStrack>(b, mu, 12800, phase);
+        const auto got = impact<dim, Tangential>(b, mu, steps_per_tc, phase);
+        const double s = (got.target_spin - ref.target_spin).norm() / ref.target_spin.norm();
+        const double v = (got.across - ref.across).norm() / ref.across.norm();
+        e.spin_max = std::max(e.spin_max, s);
+        e.across_max = std::max(e.across_max, v);
+        e.spin_rms += s * s / phases;
+        e.across_rms += v * v / phases;
+    }
+    e.spin_rms = std::sqrt(e.spin_rms);
+    e.across_rms = std::sqrt(e.across_rms);
+    return e;
+}
+
+// The processor, for the page's provenance (the numbers do not depend on it beyond the last bits).
+std::string cpu_model() {
+    std::ifstream in("/proc/cpuinfo");
+    for (std::string line; std::getline(in, line);)
+        if (line.rfind("model name", 0) == 0) return line.substr(line.find(':') + 2);
+    return "unknown processor";
+}
+
+std::string sci(double v) {
+    char b[32];
+    std::snprintf(b, sizeof b, "%.1e", v);
+    return b;
+}
+
+struct Case {
+    double b, mu;
+};
+
+template <int dim>
+void table(std::ostream& md, const std::vector<Case>& cases, const std::vector<double>& steps, int phases) {
+    md << "| b (mm), mu | update | error | " ;
+    for (double s : steps) md << "t_c/" << s << " | ";
+    md << "order |\n|---|---|---|";
+    for (std::size_t i = 0; i <= steps.size(); ++i) md << "---|";
+    md << "\n";
+    for (const Case& c : cases) {
+        std::vector<Errors> ours, first;
+        for (double s : steps) {
+            ours.push_back(errors<dim, mm::CundallStrack>(c.b, c.mu, s, phases));
+            first.push_back(errors<dim, EndOfStepSpring>(c.b, c.mu, s, phases));
+        }
+        auto row = [&](const char* name, const std::vector<Errors>& e, const char* what, auto pick) {
+            md << "| " << c.b * 1e3 << ", " << c.mu << " | " << name << " | " << what << " | ";
+            for (const Errors& x : e) md << sci(pick(x)) << " | ";
+            // The order from the first to the last step, on the rms over the phases.
+            const double order = std::log(pick(e.front()) / pick(e.back())) / std::log(steps.back() / steps.front());
+            char o[16];
+            std::snprintf(o, sizeof o, "%.1f", order);
+            md << o << " |\n";
+        };
+        row("trapezoid (library)", ours, "spin, worst", [](const Errors& x) { return x.spin_max; });
+        row("trapezoid (library)", ours, "spin, rms", [](const Errors& x) { return x.spin_rms; });
+        row("trapezoid (library)", ours, "v_t, worst", [](const Errors& x) { return x.across_max; });
+        row("end-of-step", first, "spin, worst", [](const Errors& x) { return x.spin_max; });
+        row("end-of-step", first, "spin, rms", [](const Errors& x) { return x.spin_rms; });
+        row("end-of-step", first, "v_t, worst", [](const Errors& x) { return x.across_max; });
+    }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    CLI::App app{"oblique_impacts: the tangential spring's error against the time step, as a Markdown page"};
+    std::string out;
+    int phases = 16;
+    app.add_option("--out", out, "the Markdown file to write (e.g. docs/oblique-impacts.md)")->required();
+    app.add_option("--phases", phases, "entry phases per case, spread evenly through a step")->check(CLI::Range(1, 1000));
+    CLI11_PARSE(app, argc, argv);
+
+    const std::vector<Case> cases{{0.3e-3, 0.5}, {0.8e-3, 0.5}, {1.5e-3, 0.5}, {1.9e-3, 0.5}, {0.8e-3, 0.05}};
+    const std::vector<double> steps{20, 50, 100, 200, 400};
+    std::ostringstream md;
+    md << "# Oblique impacts: the tangential spring against the time step\n\n"
+       << "Made by `build/examples/oblique_impacts --out docs/oblique-impacts.md --phases " << phases
+       << "` (the default build, on " << cpu_model() << "; seconds on one core). Two equal spheres (a = 1 mm, rho = 2000 kg/m^3, k = 1e5 N/m, k_t = 2e4 N/m, "
+       << "mu as given, no dashpots), one at rest, the other arriving at 0.5 m/s with impact parameter b; in 3D "
+       << "it also spins at 300 rad/s about its direction of flight. The error is that of the target's spin "
+       << "and of the relative velocity across the flight (v_t) after the spheres part, relative to the same "
+       << "impact at t_c/12800, over " << phases << " entry phases spread through a step: the worst and the "
+       << "root mean square. The order is the slope of the rms (or worst) error from t_c/20 to t_c/400 on "
+       << "log-log axes.\n\n"
+       << "The library's update (`CundallStrack`, docs/model.md): the spring advances by the trapezoid of the "
+       << "tangential velocity, is stored half a step ahead also after sliding, and a new contact starts "
+       << "from the time of touch. The end-of-step update, for comparison: Eq. 26 with xi + v_t dt/2, the "
+       << "spring advanced by the end-of-step velocity alone, put at the Coulomb limit after sliding, a new "
+       << "contact half a step in; first order.\n\n"
+       << "Near head-on (b = 0.3 mm) the spring still carries a force when the normal force fades, and the "
+       << "Coulomb limit drops to zero within about a step at t_c/50: where in a step that happens decides an "
+       << "error of a few 1e-3 of the small spin, which falls at second order but is resolved only from about "
+       << "t_c/100.\n\n## 2D\n\n";
+    table<2>(md, cases, steps, phases);
+    md << "\n## 3D\n\n";
+    table<3>(md, cases, steps, phases);
+
+    const std::filesystem::path path(out), partial(out + ".partial");
+    {
+        std::ofstream f(partial);
+        f << md.str();
+        f.close();
+        if (!f) {
+            std::filesystem::remove(partial);
+            std::fprintf(stderr, "oblique_impacts: cannot write %s; check the directory and the disk\n", partial.c_str());
+            return 1;
+        }
+    }
+    std::filesystem::rename(partial, path);
+    std::printf("wrote %s\n", out.c_str());
+    return 0;
+}
