@@ -174,7 +174,10 @@ int main(int argc, char** argv) {
        << "Near head-on (b = 0.3 mm) the spring still carries a force when the normal force fades, and the "
        << "Coulomb limit drops to zero within about a step at t_c/50: where in a step that happens decides an "
        << "error of a few 1e-3 of the small spin, which falls at second order but is resolved only from about "
-       << "t_c/100.\n\n## 2D\n\n";
+       << "t_c/100.\n\n"
+       << "LAMMPS's gran/hooke/history on the same impacts and phases: [oblique-impacts-lammps.md](oblique-impacts-lammps.md) "
+       << "(`scripts/oblique_impacts_lammps.sh`); first order, like the end-of-step update here where the spring "
+       << "carries the contact, and the same as the library's update where the contact slides throughout.\n\n## 2D\n\n";
     table<2>(md, cases, steps, phases);
     md << "\n## 3D\n\n";
     table<3>(md, cases, steps, phases);
