@@ -249,10 +249,10 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(non_rotating_particle_on_incline, D, Dims) {
 // tangential oscillation at the paper's t_c/50, with and without rotation. Evaluated with the
 // spring of the last step (Eq. 26 as printed), the spring lags the motion by half a step and its
 // amplitude grows by (pi/2) omega_t dt per period (measured 4.5% and 7.5% here, the energy 80 and
-// 450 times its initial value after 50 periods). With the spring at the present time (centred)
-// the growth must stay below a hundredth of that (measured 2e-5 and 1e-4), and the total energy
-// within 5% of the contact's own energy of where it started (measured 1.0-1.6%: the stored spring,
-// from which the energy is computed, is half a step ahead of the centred one).
+// 450 times its initial value after 50 periods). With the trapezoid spring the growth must stay
+// below a hundredth of that (measured 2e-5 and 1e-4), and the total energy within 1% of the
+// contact's own energy of where it started (measured 0.2-0.4%, the integrator's O(dt^2); energy
+// counted from the stored spring, which runs half a step ahead, would be off by 1-1.6%).
 template <int dim, class Law>
 void check_undamped_contact_keeps_energy(double inertia_factor) {
     const int up = dim - 1;
@@ -290,7 +290,7 @@ void check_undamped_contact_keeps_energy(double inertia_factor) {
                            << "); largest |E - E0| / E_kin(0) = " << worst / kinetic0);
     BOOST_TEST(!sim.particles().velocity()[0].hasNaN());
     BOOST_TEST(std::abs(growth) < 0.01 * printed_order_growth);
-    BOOST_TEST(worst < 5e-2 * kinetic0);
+    BOOST_TEST(worst < 1e-2 * kinetic0);
     BOOST_TEST(sim.books().dissipated_sliding == 0.0);  // it stuck throughout
 }
 
@@ -519,4 +519,39 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(oblique_impacts_converge_at_second_order, D, Dims)
         BOOST_TEST(at50.across < (sliding_throughout ? 1e-4 : 1e-3));
         if (!sliding_throughout) BOOST_TEST(at50.spin_rms / at800.spin_rms > 64.0);
     }
+}
+
+// Evaluating the same instant twice (prepare() again after the law changed, as the biaxial
+// program does between preparation and loading) must not advance the springs twice: a particle
+// rocking on a sticking, undamped tangential spring follows the same trajectory whether or not the
+// scene is re-prepared between two steps. The second evaluation sees the velocity after the last
+// kick instead of the predicted one, so the two differ at O(dt^3): 1e-7 of v0 (measured);
+// advancing the spring a second time shifts it by v_t dt and the velocity by 6e-3 of v0.
+BOOST_AUTO_TEST_CASE_TEMPLATE(re_preparing_does_not_advance_the_springs, D, Dims) {
+    constexpr int dim = D::value;
+    const int up = dim - 1;
+    auto scene = [&] {
+        mm::Walls<dim> walls;
+        walls.add_axis_aligned(up, true, 0.0);
+        FrictionScene<dim> sim(mm::FrictionalLinear{mm::LinearSpringDashpot(k, 0.0), mm::CundallStrack(0.2 * k, 0.0, 10.0)}, {},
+                               walls, {}, {}, mm::Gravity<dim>{-g * unit<dim>(up)});
+        mm::Vec<dim> x = mm::Vec<dim>::Zero();
+        x[up] = a - m * g / k;
+        sim.particles().add(x, a, m);
+        sim.particles().velocity()[0] = 1e-4 * unit<dim>(0);
+        sim.set_time_step(mm::contact_duration(k, 0.0, m) / 50);
+        return sim;
+    };
+    auto plain = scene(), again = scene();
+    plain.run(37);  // part way through a tangential period: spring and velocity both loaded
+    again.run(37);
+    again.law();    // marks the scene for a new prepare() at the next step
+    double worst = 0.0;
+    for (int s = 0; s < 200; ++s) {
+        plain.step();
+        again.step();
+        worst = std::max(worst, (plain.particles().velocity()[0] - again.particles().velocity()[0]).norm() / 1e-4);
+    }
+    BOOST_TEST_MESSAGE(dim << "D: largest velocity difference after a re-prepare, relative to v0: " << worst);
+    BOOST_TEST(worst < 1e-6);
 }
