@@ -7,6 +7,7 @@
 #include "micromacro/contact/geometry.hpp"
 #include "micromacro/contact/normal.hpp"
 #include "micromacro/contact/tangential.hpp"
+#include "micromacro/core/affine_field.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/energy.hpp"

@@ -10,7 +10,7 @@ struct EnergyBooks {
     double dissipated_normal = 0;      ///< normal dashpots (gamma_0)
     double dissipated_tangential = 0;  ///< tangential dashpots (gamma_t), while sticking
     double dissipated_sliding = 0;     ///< Coulomb sliding
-    double dissipated_background = 0;  ///< background damping (Eq. 30), both kinds
+    double dissipated_background = 0;  ///< background damping (Eq. 30) and the other damping policies
     double dissipated_walls = 0;       ///< damping of stress-controlled walls (gamma_w)
     double work_by_walls = 0;          ///< done on the system by moving walls and wall pressure
     double work_by_deformation = 0;    ///< energy put in by imposed affine deformations

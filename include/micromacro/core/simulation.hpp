@@ -771,8 +771,21 @@ private:
                     particles_.template get<field::Torque>()[i] -= convert<Real>(A(a * T::cross(n, resp.tangential)));
             }
         }
-        std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, step_books_, dt_), ...); }, body_forces_);
+        std::apply([&](const auto&... bf) { (apply_body_force<track>(bf), ...); }, body_forces_);
         if constexpr (track) close_step_books();
+    }
+
+    // A body force that measures motion against the walls' mean flow receives it (the lab frame,
+    // zero, in a scene without walls).
+    template <bool track, class F>
+    void apply_body_force(const F& force) {
+        if constexpr (requires(AffineField<dim> field) { force.template apply<track>(particles_, step_books_, dt_, field); }) {
+            AffineField<dim> field;
+            if constexpr (has_walls) field = walls_.affine_field();
+            force.template apply<track>(particles_, step_books_, dt_, field);
+        } else {
+            force.template apply<track>(particles_, step_books_, dt_);
+        }
     }
 
     // Re-evaluates the forces of a state the books have not seen move (a re-prepare, an imposed

@@ -1,8 +1,12 @@
 #pragma once
 // Forces that act on each particle alone. Each policy adds to the force (and torque) arrays and,
-// when energy is tracked, books what it dissipates; a policy with a potential reports it.
+// when energy is tracked, books what it dissipates; a policy with a potential reports it. The
+// engine applies them after the contact and wall forces, in the order the scene lists them; a
+// policy whose apply() takes an AffineField receives the mean flow of the scene's walls with it.
+#include <cmath>
 #include <vector>
 
+#include "micromacro/core/affine_field.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/error.hpp"
@@ -47,6 +51,88 @@ struct BackgroundDamping {
             }
         }
         if constexpr (track_energy) books.dissipated_background += (translational * v_sq + rotational * w_sq) * dt;
+    }
+};
+
+/// Eq. 30 measured against the box's mean flow instead of the lab: f_i -= gamma_b (v_i - u(x_i)),
+/// t_i -= gamma_r (omega_i - the flow's spin), u the affine field of the walls
+/// (Walls::affine_field; in a scene without walls the lab frame, so Eq. 30 itself). A packing
+/// that follows its walls affinely feels no drag, so a strong damping calms the oscillations a
+/// moving wall drives without resisting the deformation itself; it does resist non-affine flow
+/// such as a shear band.
+struct AffineDamping {
+    double translational = 0.0;  ///< gamma_b (kg/s)
+    double rotational = 0.0;     ///< gamma_r (kg m^2/s)
+
+    AffineDamping() = default;
+    AffineDamping(double gamma_b, double gamma_r) : translational(gamma_b), rotational(gamma_r) {
+        detail::require_non_negative(gamma_b, "affine damping gamma_b", "use 0 to switch it off");
+        detail::require_non_negative(gamma_r, "rotational affine damping gamma_r", "use 0 to switch it off");
+    }
+
+    template <bool track_energy, int dim, bool rot, class Real>
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, const AffineField<dim>& field) const {
+        auto& f = p.template get<field::Force>();
+        const auto& x = p.template get<field::Position>();
+        const auto& v = p.template get<field::Velocity>();
+        [[maybe_unused]] const Angular<dim> spin = field.spin();
+        double power = 0.0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            const Vec<dim> relative = convert<double>(v[i]) - field.velocity(convert<double>(x[i]));
+            f[i] -= convert<Real>(Vec<dim>(translational * relative));
+            if constexpr (track_energy) power += translational * relative.squaredNorm();
+            if constexpr (rot) {
+                auto& t = p.template get<field::Torque>()[i];
+                const Angular<dim> turning = convert<double>(p.template get<field::AngularVelocity>()[i]) - spin;
+                t -= convert<Real>(Angular<dim>(rotational * turning));
+                if constexpr (track_energy) power += rotational * DimTraits<dim>::squared_norm(turning);
+            }
+        }
+        // The power against the relative motion; the drag's work against the mean flow itself is
+        // zero only where the flow is affine and so, like Eq. 30's, it is booked as dissipated.
+        if constexpr (track_energy) books.dissipated_background += power * dt;
+    }
+};
+
+/// Cundall's local non-viscous damping, as in PFC and YADE's NewtonIntegrator: each component of
+/// the force and of the torque on a particle is reduced by alpha |F_k| against the particle's
+/// velocity along it, F_k -= alpha |F_k| sign(v_k). It slows accelerating motion, not steady motion
+/// under zero net force, and needs no mass or time scale. It acts on what the particle feels
+/// from its contacts, walls and the body forces listed before it: list it last. The energy it
+/// takes, alpha |F_k| |v_k| per component and unit time, is booked as background dissipation.
+struct LocalDamping {
+    double alpha = 0.0;  ///< 0 <= alpha < 1 (PFC's default 0.7 is a quasi-static relaxation)
+
+    LocalDamping() = default;
+    explicit LocalDamping(double alpha_) : alpha(alpha_) {
+        if (!(alpha_ >= 0.0 && alpha_ < 1.0))
+            detail::throw_input_error("local damping alpha = ", alpha_, " is outside [0, 1); it is the fraction of each force "
+                                      "component taken against the motion (0.7 in PFC, 0.2 in YADE's examples)");
+    }
+
+    template <bool track_energy, int dim, bool rot, class Real>
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt) const {
+        auto& f = p.template get<field::Force>();
+        const auto& v = p.template get<field::Velocity>();
+        double power = 0.0;
+        // One component: reduced against the velocity along it; returns the power taken.
+        auto damp = [&](Real& force, Real velocity) {
+            const double fk = double(force), vk = double(velocity);
+            const double taken = alpha * std::abs(fk) * ((vk > 0.0) - (vk < 0.0));
+            force = static_cast<Real>(fk - taken);
+            return taken * vk;
+        };
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            for (int k = 0; k < dim; ++k) power += damp(f[i][k], v[i][k]);
+            if constexpr (rot) {
+                auto& t = p.template get<field::Torque>()[i];
+                const auto& w = p.template get<field::AngularVelocity>()[i];
+                if constexpr (dim == 2) power += damp(t, w);
+                else
+                    for (int k = 0; k < 3; ++k) power += damp(t[k], w[k]);
+            }
+        }
+        if constexpr (track_energy) books.dissipated_background += power * dt;
     }
 };
 

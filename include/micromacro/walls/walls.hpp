@@ -14,6 +14,7 @@
 #include <variant>
 #include <vector>
 
+#include "micromacro/core/affine_field.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
@@ -119,6 +120,33 @@ public:
     }
 
     std::size_t size() const { return walls_.size(); }
+
+    /// The box's mean flow: along every axis bounded by a lower and an upper axis-aligned wall
+    /// (the first of each found), the velocity that grows linearly from the lower wall's to the
+    /// upper wall's; zero along other axes. A packing that follows its walls affinely moves with
+    /// this field.
+    AffineField<dim> affine_field() const {
+        AffineField<dim> field;
+        for (int k = 0; k < dim; ++k) {
+            const Wall<dim>* lower = nullptr;
+            const Wall<dim>* upper = nullptr;
+            for (const auto& w : walls_) {
+                if (w.axis() != k) continue;
+                if (w.normal[k] > 0) {
+                    if (!lower) lower = &w;
+                } else if (!upper) {
+                    upper = &w;
+                }
+            }
+            if (!lower || !upper) continue;
+            const double lo = lower->coordinate(), hi = upper->coordinate();
+            const double u_lo = lower->speed * lower->normal[k], u_hi = upper->speed * upper->normal[k];  // along +axis
+            field.origin[k] = lo;
+            field.velocity_at_origin[k] = u_lo;
+            if (hi > lo) field.gradient(k, k) = (u_hi - u_lo) / (hi - lo);
+        }
+        return field;
+    }
 
     template <class Archive>
     void serialize(Archive& ar) {
