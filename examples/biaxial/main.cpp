@@ -243,7 +243,7 @@ int run(const Config& c, const Plan& plan) {
     std::size_t prepare_steps = 0;
     std::ofstream csv;
     if (plan.resume) {
-        const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, out / "checkpoint.state"));
+        const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, out / "checkpoint.state", "checkpoint"));
         exp.restore_bookkeeping(saved.at("bookkeeping").get<std::vector<double>>());
         rows_done = saved.at("rows");
         vtk_times = saved.at("vtk_times").get<std::vector<double>>();
@@ -256,9 +256,9 @@ int run(const Config& c, const Plan& plan) {
         if (plan.from_prepared.empty()) {
             exp.build();
             exp.prepare([&](const auto&) { progress("prepare", 0.0, 0.0); });
-            micromacro::io::save_state(sim, out / "prepared.state", settings(0, 0));
+            micromacro::io::save_state(sim, out / "prepared.state", settings(0, 0), "prepared");
         } else {
-            const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, plan.from_prepared));
+            const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, plan.from_prepared, "prepared"));
             if (saved.at("parameters").at("particles").get<std::size_t>() != c.particles)
                 micromacro::detail::throw_input_error(plan.from_prepared, " holds ",
                                                       saved.at("parameters").at("particles").get<std::size_t>(),
@@ -297,7 +297,7 @@ int run(const Config& c, const Plan& plan) {
         progress("load", double(rows_done) / total_rows, exp.eps_zz());
         if (plan.checkpoint_every > 0 && sim.time() - last_checkpoint >= plan.checkpoint_every - 0.5 * dt) {
             csv.flush();
-            micromacro::io::save_state(sim, out / "checkpoint.state", settings(rows_done, fs::file_size(partial)));
+            micromacro::io::save_state(sim, out / "checkpoint.state", settings(rows_done, fs::file_size(partial)), "checkpoint");
             last_checkpoint = sim.time();
         }
         if (plan.stop_after_rows && rows_done >= plan.stop_after_rows) {
@@ -419,7 +419,7 @@ int main(int argc, char** argv) {
             if (!fs::exists(checkpoint))
                 micromacro::detail::throw_input_error(checkpoint.string(), " does not exist; was the run started with --checkpoint-every?");
             // The settings are the text saved with the state (they say which dimension to restore).
-            c = config_from_json(nlohmann::ordered_json::parse(micromacro::io::state_text(checkpoint)), c);
+            c = config_from_json(nlohmann::ordered_json::parse(micromacro::io::state_text(checkpoint, "checkpoint")), c);
             return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
         }
         biaxial::apply_preset(c, preset);
@@ -444,7 +444,7 @@ int main(int argc, char** argv) {
         set(gwt, c.wall_follow_time);
         set(interval, c.output_interval);
         if (!plan.from_prepared.empty() && !particles->count())  // the prepared state decides
-            c.particles = nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared))
+            c.particles = nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared, "prepared"))
                               .at("parameters").at("particles").get<std::size_t>();
         biaxial::validate(c);
         micromacro::detail::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");

@@ -179,6 +179,26 @@ BOOST_AUTO_TEST_CASE(resume_and_prepared_equal_uninterrupted) {
     const auto other = run("--dim 3 --quiet --from-prepared " + (full / "prepared.state").string() + " --out " + (work / "other").string());
     BOOST_TEST(other.status != 0);
     BOOST_TEST(other.err.find("holds a different scene (dim=2") != std::string::npos, other.err);
+    // A checkpoint is not a prepared state: offered as one it is refused, and a damaged
+    // checkpoint does not resume.
+    const auto mixed = run(no_count + " --from-prepared " + (killed / "checkpoint.state").string() + " --out " +
+                           (work / "mixed").string());
+    BOOST_TEST(mixed.status != 0);
+    BOOST_TEST(mixed.err.find("is a checkpoint state, not a prepared state") != std::string::npos, mixed.err);
+    const auto again = work / "again";
+    fs::remove_all(again);
+    BOOST_TEST_REQUIRE(run(args + " --checkpoint-every 0.003 --stop-after-rows 25 --out " + again.string()).status != 0);
+    {
+        std::fstream f(again / "checkpoint.state", std::ios::in | std::ios::out | std::ios::binary);
+        const auto middle = static_cast<std::streamoff>(fs::file_size(again / "checkpoint.state") / 2);
+        f.seekg(middle);
+        const char byte = static_cast<char>(f.get());
+        f.seekp(middle);
+        f.put(static_cast<char>(~byte));  // a different byte, whatever it was
+    }
+    const auto damaged = run("--quiet --resume " + again.string());
+    BOOST_TEST(damaged.status != 0);
+    BOOST_TEST(damaged.err.find("damaged") != std::string::npos, damaged.err);
 }
 
 BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {

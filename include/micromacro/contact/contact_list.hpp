@@ -26,6 +26,11 @@ public:
     static constexpr bool has_history = !std::is_same_v<History, NoHistory>;
 
     std::size_t size() const { return pairs_.size(); }
+    /// Whether there is one history per pair (after restoring a file).
+    bool consistent() const {
+        if constexpr (has_history) return history_.size() == pairs_.size();
+        else return true;
+    }
     const std::vector<IndexPair>& pairs() const { return pairs_; }
     std::vector<IndexPair>& scratch() { return next_; }
 

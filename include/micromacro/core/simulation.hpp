@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <cmath>
 #include <limits>
+#include <string>
 #include <tuple>
 #include <type_traits>
 #include <utility>
@@ -531,6 +532,48 @@ public:
         ar.value(prepared_);
         ar.value(allow_unstable_);
         ar.value(track_energy_);
+    }
+
+    /// Refuses a restored state (from `source`, a file name for the message) whose parts do not hold
+    /// together: arrays of other lengths than the particle count, pairs naming particles or walls
+    /// that do not exist, positions, velocities, radii, masses or clocks that are not finite or not
+    /// positive where they must be. io::load_state calls it; a damaged file must never run.
+    void check_restored(const std::string& source) const {
+        auto refuse = [&](auto&&... what) {
+            detail::throw_input_error(source, ": the restored state does not hold together (", what..., ")");
+        };
+        const std::size_t n = particles_.size();
+        if (!particles_.consistent()) refuse("particle fields of different lengths");
+        if (reference_.size() != n) refuse(reference_.size(), " neighbour-list references for ", n, " particles");
+        if constexpr (Integrator::keeps_previous_forces) {
+            if (previous_force_.size() != n) refuse(previous_force_.size(), " previous forces for ", n, " particles");
+            if constexpr (rotation)
+                if (previous_torque_.size() != n) refuse(previous_torque_.size(), " previous torques for ", n, " particles");
+        }
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!convert<double>(particles_.position()[i]).allFinite() || !convert<double>(particles_.velocity()[i]).allFinite())
+                refuse("particle ", i, " has a position or velocity that is not finite");
+            if (!(double(particles_.radius()[i]) > 0.0) || !(double(particles_.mass()[i]) > 0.0) ||
+                !std::isfinite(double(particles_.radius()[i])) || !std::isfinite(double(particles_.mass()[i])))
+                refuse("particle ", i, " has radius ", particles_.radius()[i], " and mass ", particles_.mass()[i]);
+        }
+        if (!pairs_.consistent()) refuse("contact histories and pairs of different lengths");
+        for (std::size_t c = 0; c < pairs_.size(); ++c) {
+            const auto [i, j] = pairs_.pairs()[c];
+            if (!(i < j && j < n)) refuse("pair ", c, " names particles ", i, " and ", j, " of ", n);
+        }
+        if constexpr (has_walls) {
+            for (std::size_t w = 0; w < walls_.size(); ++w)
+                if (!walls_[w].normal.allFinite() || !std::isfinite(walls_[w].offset) || !std::isfinite(walls_[w].speed))
+                    refuse("wall ", w, " has a position or speed that is not finite");
+            if (!wall_contacts_.consistent()) refuse("wall histories and wall contacts of different lengths");
+            for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
+                const auto [i, w] = wall_contacts_.pairs()[c];
+                if (!(i < n && w < walls_.size())) refuse("wall contact ", c, " names particle ", i, " and wall ", w);
+            }
+        }
+        if (!(dt_ > 0.0 && std::isfinite(dt_)) || !std::isfinite(time_) || !(evaluated_dt_ >= 0.0 && std::isfinite(evaluated_dt_)))
+            refuse("time step ", dt_, ", time ", time_);
     }
 
     /// Bytes the simulation holds in its arrays (particles, contacts with history, neighbour-list

@@ -1,9 +1,14 @@
 #pragma once
 // Saving and restoring a complete simulation state (a prepared packing, a checkpoint). The file
 // is binary, for this machine's byte order and this build's types: a header with a magic word,
-// a format version, the dimension and a signature of the scene's storage, then every array the
-// simulation visits in serialize(). Files are written whole to a temporary name and renamed,
-// so a crash never leaves a half-written state behind.
+// a format version, the kind of state (the caller's word: "prepared", "checkpoint"), a signature
+// of the scene's storage and the caller's text, then every array the simulation visits in
+// serialize(), then a 64-bit FNV-1a checksum of all that. A load verifies the checksum before it
+// reads anything, so a file changed after it was written (a flipped byte, an edited text, a
+// truncation) is refused instead of restored; then the kind, the scene and what was restored
+// (Simulation::check_restored). Files are written whole to a temporary name and renamed, so a
+// crash never leaves a half-written state behind.
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -18,13 +23,28 @@ namespace micromacro::io {
 
 namespace detail {
 inline constexpr char state_magic[] = "MICROMACRO-STATE";
-// 2: tangential springs stored half a step ahead, with a flag for contacts already evaluated
+// 2: tangential springs stored half a step ahead, with a flag for contacts already evaluated;
+// the kind of state; a checksum at the end
 inline constexpr std::uint32_t state_version = 2;
+
+/// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it
+/// (each step is a bijection of the running value); other changes go unseen with chance 2^-64.
+struct Checksum {
+    std::uint64_t value = 14695981039346656037ull;
+    void add(const void* p, std::size_t n) {
+        const auto* b = static_cast<const unsigned char*>(p);
+        for (std::size_t k = 0; k < n; ++k) value = (value ^ b[k]) * 1099511628211ull;
+    }
+};
 
 class StateWriter {
 public:
     explicit StateWriter(std::ofstream& out) : out_(out) {}
-    void raw_bytes(const void* p, std::size_t n) { out_.write(static_cast<const char*>(p), static_cast<std::streamsize>(n)); }
+    void raw_bytes(const void* p, std::size_t n) {
+        checksum_.add(p, n);
+        out_.write(static_cast<const char*>(p), static_cast<std::streamsize>(n));
+    }
+    std::uint64_t checksum() const { return checksum_.value; }
     template <class T>
     void raw(T& v) { raw_bytes(&v, sizeof v); }
     template <class T>
@@ -40,6 +60,7 @@ public:
 
 private:
     std::ofstream& out_;
+    Checksum checksum_;
 };
 
 class StateReader {
@@ -65,11 +86,46 @@ public:
     }
     template <class M, class Variant>
     M restored(Variant&) { M m{}; raw(m); return m; }
+    /// Bytes read so far.
+    std::uint64_t position() { return static_cast<std::uint64_t>(in_.tellg()); }
 
 private:
     std::ifstream& in_;
     std::string path_;
 };
+
+/// Refuses a file that is not a state or whose checksum does not match its contents; returns the
+/// size of the contents (the file less its checksum).
+inline std::uint64_t verify_state_file(const std::filesystem::path& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) micromacro::detail::throw_input_error("cannot open the state file ", path.string());
+    char magic[sizeof state_magic] = {};
+    in.read(magic, sizeof magic);
+    if (in.gcount() != static_cast<std::streamsize>(sizeof magic) || std::memcmp(magic, state_magic, sizeof magic) != 0)
+        micromacro::detail::throw_input_error(path.string(), " is not a micromacro state file (it is truncated or has no ",
+                                              "state header)");
+    const std::uint64_t size = std::filesystem::file_size(path);
+    if (size < sizeof magic + sizeof(std::uint32_t) + sizeof(std::uint64_t))
+        micromacro::detail::throw_input_error(path.string(), ": the state file is truncated or damaged");
+    const std::uint64_t contents = size - sizeof(std::uint64_t);
+    Checksum sum;
+    sum.add(magic, sizeof magic);
+    std::vector<char> chunk(1 << 16);
+    for (std::uint64_t done = sizeof magic; done < contents;) {
+        const auto n = static_cast<std::streamsize>(std::min<std::uint64_t>(chunk.size(), contents - done));
+        in.read(chunk.data(), n);
+        if (in.gcount() != n) micromacro::detail::throw_input_error(path.string(), ": the state file could not be read");
+        sum.add(chunk.data(), static_cast<std::size_t>(n));
+        done += static_cast<std::uint64_t>(n);
+    }
+    std::uint64_t stored = 0;
+    in.read(reinterpret_cast<char*>(&stored), sizeof stored);
+    if (stored != sum.value)
+        micromacro::detail::throw_input_error(path.string(), ": the state file is damaged (its checksum does not match its ",
+                                              "contents: it was truncated, edited or corrupted after it was written); use ",
+                                              "another copy or make it again");
+    return contents;
+}
 
 /// A signature of the scene's storage: dimension, storage precision, size of the simulation
 /// object and of its contact history. A state saved by a different scene type is refused.
@@ -82,9 +138,10 @@ std::string signature() {
 }
 }  // namespace detail
 
-/// Saves the simulation and `extra` (any text the program wants back, e.g. its settings as JSON).
+/// Saves the simulation and `extra` (any text the program wants back, e.g. its settings as JSON)
+/// as a state of the given kind (a word load_state can insist on, e.g. "prepared", "checkpoint").
 template <class Sim>
-void save_state(Sim& sim, const std::filesystem::path& path, std::string extra = {}) {
+void save_state(Sim& sim, const std::filesystem::path& path, std::string extra = {}, std::string kind = "state") {
     const std::filesystem::path partial = path.string() + ".partial";
     {
         std::ofstream out(partial, std::ios::binary);
@@ -93,12 +150,16 @@ void save_state(Sim& sim, const std::filesystem::path& path, std::string extra =
         w.raw_bytes(detail::state_magic, sizeof detail::state_magic);
         std::uint32_t version = detail::state_version;
         w.raw(version);
+        std::vector<char> kind_text(kind.begin(), kind.end());
+        w.array(kind_text);
         const std::string signature = detail::signature<Sim>();
         std::vector<char> sig(signature.begin(), signature.end());
         w.array(sig);
         std::vector<char> text(extra.begin(), extra.end());
         w.array(text);
         sim.serialize(w);
+        std::uint64_t checksum = w.checksum();
+        out.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
         out.flush();
         if (!out) {
             out.close();
@@ -111,7 +172,7 @@ void save_state(Sim& sim, const std::filesystem::path& path, std::string extra =
 
 namespace detail {
 struct StateHeader {
-    std::string signature, text;
+    std::string kind, signature, text;
 };
 
 inline StateHeader read_state_header(StateReader& r, const std::filesystem::path& path) {
@@ -124,34 +185,48 @@ inline StateHeader read_state_header(StateReader& r, const std::filesystem::path
     if (version != detail::state_version)
         micromacro::detail::throw_input_error(path.string(), " has state format ", version, ", this build reads ",
                                               detail::state_version);
-    std::vector<char> sig, text;
+    std::vector<char> kind, sig, text;
+    r.array(kind);
     r.array(sig);
     r.array(text);
-    return {{sig.begin(), sig.end()}, {text.begin(), text.end()}};
+    return {{kind.begin(), kind.end()}, {sig.begin(), sig.end()}, {text.begin(), text.end()}};
 }
 }  // namespace detail
 
-/// The extra text saved with a state, without restoring it (e.g. to learn which scene to build).
-inline std::string state_text(const std::filesystem::path& path) {
+/// The extra text saved with a state, without restoring it (e.g. to learn which scene to build),
+/// after the checksum and, when `kind` is given, the kind are verified.
+inline std::string state_text(const std::filesystem::path& path, const std::string& kind = {}) {
+    detail::verify_state_file(path);
     std::ifstream in(path, std::ios::binary);
-    if (!in) micromacro::detail::throw_input_error("cannot open the state file ", path.string());
-    detail::StateReader r(in, path.string());
-    return detail::read_state_header(r, path).text;
-}
-
-/// Restores a state saved by save_state into `sim` and returns the extra text. Refuses files of
-/// another format, version or scene (for example the other dimension), naming both.
-template <class Sim>
-std::string load_state(Sim& sim, const std::filesystem::path& path) {
-    std::ifstream in(path, std::ios::binary);
-    if (!in) micromacro::detail::throw_input_error("cannot open the state file ", path.string());
     detail::StateReader r(in, path.string());
     const auto header = detail::read_state_header(r, path);
+    if (!kind.empty() && header.kind != kind)
+        micromacro::detail::throw_input_error(path.string(), " is a ", header.kind, " state, not a ", kind, " state");
+    return header.text;
+}
+
+/// Restores a state saved by save_state into `sim` and returns the extra text. Refuses a damaged
+/// file (checksum), one of another format, version, kind (when `kind` is given) or scene (for
+/// example the other dimension), naming both, and restored contents that do not hold together.
+template <class Sim>
+std::string load_state(Sim& sim, const std::filesystem::path& path, const std::string& kind = {}) {
+    const std::uint64_t contents = detail::verify_state_file(path);
+    std::ifstream in(path, std::ios::binary);
+    detail::StateReader r(in, path.string());
+    const auto header = detail::read_state_header(r, path);
+    if (!kind.empty() && header.kind != kind)
+        micromacro::detail::throw_input_error(path.string(), " is a ", header.kind, " state, not a ", kind, " state");
     const std::string wanted = detail::signature<Sim>();
     if (header.signature != wanted)
         micromacro::detail::throw_input_error(path.string(), " holds a different scene (", header.signature, ") than this run (",
                                               wanted, ")");
-    sim.serialize(r);
+    Sim restored = sim;  // restored apart, so that a refused file leaves `sim` as it was
+    restored.serialize(r);
+    if (r.position() != contents)
+        micromacro::detail::throw_input_error(path.string(), ": the state file is damaged (its arrays do not end where its ",
+                                              "checksum begins)");
+    restored.check_restored(path.string());
+    sim = std::move(restored);
     return header.text;
 }
 

@@ -54,6 +54,15 @@ public:
     static constexpr bool has_rotation = with_rotation;
 
     std::size_t size() const { return position_.size(); }
+    /// Whether every field has one entry per particle (after restoring a file).
+    bool consistent() const {
+        const std::size_t n = position_.size();
+        bool same = velocity_.size() == n && force_.size() == n && radius_.size() == n && mass_.size() == n &&
+                    inverse_mass_.size() == n;
+        if constexpr (with_rotation)
+            same = same && angular_velocity_.size() == n && torque_.size() == n && inertia_.size() == n && inverse_inertia_.size() == n;
+        return same;
+    }
     bool empty() const { return position_.empty(); }
 
     /// Adds a particle at rest and returns its index. With rotation, `inertia` <= 0 selects the
