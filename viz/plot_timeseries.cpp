@@ -36,6 +36,7 @@
 #include <vtkWindowToImageFilter.h>
 
 #include "../examples/biaxial/timeseries.hpp"
+#include "../examples/command_line.hpp"
 #include "offscreen.hpp"
 
 namespace fs = std::filesystem;
@@ -118,7 +119,7 @@ int main(int argc, char** argv) {
     app.add_option("--size", size, "image size WIDTHxHEIGHT")->capture_default_str();
     app.add_option("--k", k, "normal stiffness k (N/m) to scale C^n")->capture_default_str();
     app.add_option("--kt-ratio", kt_ratio, "k_t / k to scale C^t")->capture_default_str();
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         viz::require_display("plot_timeseries");
         const auto [width, height] = viz::parse_size(size);

@@ -36,6 +36,7 @@
 #include <vtkWindowToImageFilter.h>
 #include <vtkXMLPolyDataReader.h>
 
+#include "../examples/command_line.hpp"
 #include "offscreen.hpp"
 #include "snapshot_view.hpp"
 
@@ -100,7 +101,7 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "PNG file to write")->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT in pixels")->capture_default_str();
     app.add_flag("--3d", three_d, "draw spheres with lighting (default: flat disks in the plane z = 0)");
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         viz::require_display("render_snapshot");
         const auto [width, height] = viz::parse_size(size);

@@ -16,6 +16,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "../command_line.hpp"
+
 #include <micromacro/io/json.hpp>
 #include <micromacro/io/packing_files.hpp>
 #include <micromacro/micromacro.hpp>
@@ -113,7 +115,7 @@ int main(int argc, char** argv) {
         ->check(CLI::ExistingFile);
     app.add_flag("--exclude-rattlers", o.exclude_rattlers, "leave out particles with fewer than dim + 1 contacts");
     app.add_option("--output,-o", o.output, "write the JSON here instead of standard output (written whole, then renamed)");
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
     try {
         selection_rule(o.rule);  // refuse a bad option before reading anything

@@ -21,6 +21,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../command_line.hpp"
 #include "biaxial.hpp"
 #ifdef MICROMACRO_HAVE_VTK
 #include <micromacro/io/vtk.hpp>
@@ -406,7 +407,7 @@ int main(int argc, char** argv) {
     app.add_flag("--no-pictures", no_pictures, "skip the snapshots and plots at the end");
     app.add_flag("--wall-friction", c.wall_friction, "walls use the particles' friction (default: smooth walls)");
     app.add_flag("--quiet", quiet, "no progress line, only the final summary");
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
     try {
         if (out.empty() && resume.empty()) micromacro::detail::throw_input_error("give --out DIR (or --resume DIR)");

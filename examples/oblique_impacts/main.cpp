@@ -23,6 +23,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "../command_line.hpp"
+
 #include <micromacro/micromacro.hpp>
 
 namespace mm = micromacro;
@@ -152,7 +154,7 @@ int main(int argc, char** argv) {
     int phases = 16;
     app.add_option("--out", out, "the Markdown file to write (e.g. docs/oblique-impacts.md)")->required();
     app.add_option("--phases", phases, "entry phases per case, spread evenly through a step")->check(CLI::Range(1, 1000));
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
     const std::vector<Case> cases{{0.3e-3, 0.5}, {0.8e-3, 0.5}, {1.5e-3, 0.5}, {1.9e-3, 0.5}, {0.8e-3, 0.05}};
     const std::vector<double> steps{20, 50, 100, 200, 400};

@@ -25,6 +25,7 @@
 #include <CLI/CLI.hpp>
 
 #include "../biaxial/biaxial.hpp"
+#include "../command_line.hpp"
 
 namespace mm = micromacro;
 namespace fs = std::filesystem;
@@ -282,7 +283,7 @@ int main(int argc, char** argv) {
         ->capture_default_str()
         ->check(CLI::Range(1, 100));
     app.add_flag("--tiny", tiny, "a few seconds: 40 particles, short loading, fewer rows (for CI; the numbers mean little)");
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
     try {
         std::error_code ec;

@@ -10,6 +10,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "../../examples/command_line.hpp"
+
 #include "micromacro/core/parallel.hpp"
 
 int main(int argc, char** argv) {
@@ -17,7 +19,7 @@ int main(int argc, char** argv) {
     int threads = 2, repeats = 200000;
     app.add_option("--threads", threads, "threads in each region")->check(CLI::Range(1, 256));
     app.add_option("--repeats", repeats, "regions (and barriers) timed per trial")->check(CLI::Range(1, 100000000));
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 #ifndef _OPENMP
     std::fprintf(stderr, "sync_cost: built without OpenMP, so there is nothing to time; build with -fopenmp\n");
     return 1;

@@ -38,6 +38,8 @@
 #include <micromacro/io/packing_files.hpp>
 #include <micromacro/micromacro.hpp>
 
+#include "../../examples/command_line.hpp"
+
 namespace mm = micromacro;
 
 namespace {
@@ -252,7 +254,7 @@ int main(int argc, char** argv) {
         ->check(CLI::IsMember({"double", "float"}))
         ->capture_default_str();
     app.add_flag("--json", o.json, "one JSON line instead of text");
-    CLI11_PARSE(app, argc, argv);
+    MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         if (!o.packing.empty()) {
             o.format = mm::io::guess_format(o.packing);

@@ -1,5 +1,7 @@
 #pragma once
 // Running a program of the project from a test: its exit status and what it printed.
+#include <sys/wait.h>
+
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -25,8 +27,10 @@ inline std::string write_file(const std::filesystem::path& dir, const std::strin
 }
 
 struct ProgramResult {
-    int status;
+    int status;     ///< as std::system returns it: 0 for success
     std::string out, err;
+    /// The program's exit status (WEXITSTATUS), or -1 if it did not exit normally.
+    int exit_code() const { return WIFEXITED(status) ? WEXITSTATUS(status) : -1; }
 };
 
 /// Runs `program args` with standard output and error captured in files under `work`.

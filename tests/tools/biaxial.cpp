@@ -219,13 +219,17 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         const auto dir = work / "bad";
         fs::remove_all(dir);
         const auto r = run(c.args + " --quiet --out " + dir.string());
-        BOOST_TEST(r.status != 0, c.args);
+        BOOST_TEST(r.exit_code() == 1, c.args << ": exit status " << r.exit_code());
         BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.args << ": stderr was '" << r.err << "'");
         BOOST_TEST(!fs::exists(dir / "timeseries.csv"), c.args);
     }
     const auto r = run("--quiet --out /proc/not_here");
-    BOOST_TEST(r.status != 0);
+    BOOST_TEST(r.exit_code() == 1);
     BOOST_TEST(r.err.find("is not a writable directory") != std::string::npos, r.err);
+    // --help is not an error: the usage, exit status 0.
+    const auto help = run("--help");
+    BOOST_TEST(help.exit_code() == 0);
+    BOOST_TEST(help.out.find("--preset") != std::string::npos, help.out);
 }
 
 // The triaxial box (--dim 3), short: both stress-controlled side walls hold p, the packing

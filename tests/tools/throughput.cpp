@@ -171,7 +171,7 @@ BOOST_AUTO_TEST_CASE(bad_input_is_refused_with_a_message_and_no_result) {
     };
     for (const auto& c : cases) {
         const auto r = run(c.args + " --json");
-        BOOST_TEST(r.status != 0, c.args);
+        BOOST_TEST(r.exit_code() == 1, c.args << ": exit status " << r.exit_code());
         BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.args << ": stderr was '" << r.err << "'");
         BOOST_TEST(r.out.empty(), c.args << ": no result line");
     }
