@@ -94,8 +94,10 @@ public:
     /// velocity Verlet (the velocity-dependent forces need the velocity at the new time). The
     /// spring that gives the force is xi_n = xi_{n-1} + (v_{n-1} + v_n) dt/2: the trapezoid in the
     /// tangential velocity, which advances xi over each step by the step's mean velocity, as the
-    /// positions advance (second order; a leapfrog oscillator, so an undamped sticking contact
-    /// keeps its amplitude and the spring's work over a step equals the change of its energy).
+    /// positions advance: second order, and the spring's work over a step equals the change of
+    /// its energy. The mean of two predicted velocities differs from the half-step velocity of
+    /// velocity Verlet by dt^2/4 (a_n - a_{n-1}), so an undamped sticking contact still grows by
+    /// about (omega_t dt)^3 per period (1e-4 at t_c/50; see BasicSimulation::stable_time_step).
     /// The history stores xi_n + v_n dt/2, so the next evaluation adds only its own v_{n+1} dt/2
     /// and nothing else per contact is kept. This holds for sliding too: Eq. 28 puts xi_n at the
     /// Coulomb limit and the history stores that plus v_n dt/2. (Storing the limit itself lags
