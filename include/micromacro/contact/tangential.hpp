@@ -206,9 +206,7 @@ public:
     template <int dim>
     Vec<dim> present_spring(const Vec<dim>& n, const Vec<dim>& relative_velocity, double dt, const History<dim>& h) const {
         if (!h.touching) return Vec<dim>::Zero();
-        const Vec<dim> vt = relative_velocity - n * n.dot(relative_velocity);
-        const Vec<dim> stored = h.spring - n * n.dot(h.spring);
-        return stored - (0.5 * dt) * vt;
+        return in_tangent_plane(n, h.spring) - (0.5 * dt) * in_tangent_plane(n, relative_velocity);
     }
 
     /// The tangential force of the present state without advancing the spring: Eq. 26 with the
@@ -217,8 +215,8 @@ public:
     template <int dim>
     Vec<dim> current_force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force, double dt,
                            const History<dim>& h) const {
-        const Vec<dim> vt = relative_velocity - n * n.dot(relative_velocity);
-        const Vec<dim> trial = -kt_ * present_spring<dim>(n, relative_velocity, dt, h) - gamma_t_ * vt;
+        const Vec<dim> trial =
+            -kt_ * present_spring<dim>(n, relative_velocity, dt, h) - gamma_t_ * in_tangent_plane(n, relative_velocity);
         const double limit = (h.sliding ? mu_d_ : mu_s_) * std::max(normal_force, 0.0);
         const double magnitude = trial.norm();
         return magnitude > limit ? Vec<dim>(trial * (limit / magnitude)) : trial;
@@ -231,12 +229,16 @@ public:
     template <int dim>
     void step_back(const Vec<dim>& n, const Vec<dim>& relative_velocity, double dt_last, double dt_next,
                    History<dim>& h) const {
-        if (!h.touching) return;
-        const Vec<dim> vt = relative_velocity - n * n.dot(relative_velocity);
-        h.spring -= (0.5 * (dt_last + dt_next)) * vt;
+        if (h.touching) h.spring -= (0.5 * (dt_last + dt_next)) * in_tangent_plane(n, relative_velocity);
     }
 
 private:
+    /// The part of `u` in the tangent plane of the contact normal n (Eq. 23, 24).
+    template <int dim>
+    static Vec<dim> in_tangent_plane(const Vec<dim>& n, const Vec<dim>& u) {
+        return u - n * n.dot(u);
+    }
+
     double kt_, gamma_t_, mu_s_, mu_d_;
 };
 

@@ -175,7 +175,9 @@ struct StateHeader {
     std::string kind, signature, text;
 };
 
-inline StateHeader read_state_header(StateReader& r, const std::filesystem::path& path) {
+// Reads the header after the magic word is known to be there (verify_state_file); with a
+// non-empty `kind`, refuses a state of another kind.
+inline StateHeader read_state_header(StateReader& r, const std::filesystem::path& path, const std::string& kind) {
     char magic[sizeof detail::state_magic] = {};
     r.raw_bytes(magic, sizeof magic);
     if (std::memcmp(magic, detail::state_magic, sizeof magic) != 0)
@@ -185,11 +187,14 @@ inline StateHeader read_state_header(StateReader& r, const std::filesystem::path
     if (version != detail::state_version)
         micromacro::detail::throw_input_error(path.string(), " has state format ", version, ", this build reads ",
                                               detail::state_version);
-    std::vector<char> kind, sig, text;
-    r.array(kind);
+    std::vector<char> kind_text, sig, text;
+    r.array(kind_text);
     r.array(sig);
     r.array(text);
-    return {{kind.begin(), kind.end()}, {sig.begin(), sig.end()}, {text.begin(), text.end()}};
+    StateHeader header{{kind_text.begin(), kind_text.end()}, {sig.begin(), sig.end()}, {text.begin(), text.end()}};
+    if (!kind.empty() && header.kind != kind)
+        micromacro::detail::throw_input_error(path.string(), " is a ", header.kind, " state, not a ", kind, " state");
+    return header;
 }
 }  // namespace detail
 
@@ -199,9 +204,7 @@ inline std::string state_text(const std::filesystem::path& path, const std::stri
     detail::verify_state_file(path);
     std::ifstream in(path, std::ios::binary);
     detail::StateReader r(in, path.string());
-    const auto header = detail::read_state_header(r, path);
-    if (!kind.empty() && header.kind != kind)
-        micromacro::detail::throw_input_error(path.string(), " is a ", header.kind, " state, not a ", kind, " state");
+    const auto header = detail::read_state_header(r, path, kind);
     return header.text;
 }
 
@@ -213,9 +216,7 @@ std::string load_state(Sim& sim, const std::filesystem::path& path, const std::s
     const std::uint64_t contents = detail::verify_state_file(path);
     std::ifstream in(path, std::ios::binary);
     detail::StateReader r(in, path.string());
-    const auto header = detail::read_state_header(r, path);
-    if (!kind.empty() && header.kind != kind)
-        micromacro::detail::throw_input_error(path.string(), " is a ", header.kind, " state, not a ", kind, " state");
+    const auto header = detail::read_state_header(r, path, kind);
     const std::string wanted = detail::signature<Sim>();
     if (header.signature != wanted)
         micromacro::detail::throw_input_error(path.string(), " holds a different scene (", header.signature, ") than this run (",
