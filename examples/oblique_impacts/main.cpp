@@ -8,10 +8,10 @@
 // comparison with LAMMPS's gran/hooke/history). The spin and the tangential velocity they part
 // with are compared with the same impact at t_c/12800, over entry phases spread evenly through
 // a step (where in a step the surfaces meet decides much of the error at coarse steps). Two
-// tangential updates: the library's (the trapezoid in the tangential velocity, the spring stored
-// half a step ahead also after sliding, a new contact started at the time of touch) and, for
-// comparison, the common first-order one (Eq. 26 with xi + v_t dt/2, the spring advanced by the
-// end-of-step velocity, put at the Coulomb limit after sliding, a new contact half a step in).
+// tangential updates: the library's (the spring advanced by the half-step velocity, a new contact
+// started at the time of touch) and, for comparison, the common first-order one (Eq. 26 with
+// xi + v_t dt/2, the spring advanced by the end-of-step velocity, put at the Coulomb limit after
+// sliding, a new contact half a step in).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -137,9 +137,9 @@ void table(std::ostream& md, const std::vector<Case>& cases, const std::vector<d
             std::snprintf(o, sizeof o, "%.1f", order);
             md << o << " |\n";
         };
-        row("trapezoid (library)", ours, "spin, worst", [](const Errors& x) { return x.spin_max; });
-        row("trapezoid (library)", ours, "spin, rms", [](const Errors& x) { return x.spin_rms; });
-        row("trapezoid (library)", ours, "v_t, worst", [](const Errors& x) { return x.across_max; });
+        row("half-step (library)", ours, "spin, worst", [](const Errors& x) { return x.spin_max; });
+        row("half-step (library)", ours, "spin, rms", [](const Errors& x) { return x.spin_rms; });
+        row("half-step (library)", ours, "v_t, worst", [](const Errors& x) { return x.across_max; });
         row("end-of-step", first, "spin, worst", [](const Errors& x) { return x.spin_max; });
         row("end-of-step", first, "spin, rms", [](const Errors& x) { return x.spin_rms; });
         row("end-of-step", first, "v_t, worst", [](const Errors& x) { return x.across_max; });
@@ -168,9 +168,9 @@ int main(int argc, char** argv) {
        << "impact at t_c/12800, over " << phases << " entry phases spread through a step: the worst and the "
        << "root mean square. The order is the slope of the rms (or worst) error from t_c/20 to t_c/400 on "
        << "log-log axes.\n\n"
-       << "The library's update (`CundallStrack`, docs/model.md): the spring advances by the trapezoid of the "
-       << "tangential velocity, is stored half a step ahead also after sliding, and a new contact starts "
-       << "from the time of touch. The end-of-step update, for comparison: Eq. 26 with xi + v_t dt/2, the "
+       << "The library's update (`CundallStrack`, docs/model.md): the spring advances by the half-step "
+       << "velocity of velocity Verlet, as the positions do, and a new contact starts from the time of touch. "
+       << "The end-of-step update, for comparison: Eq. 26 with xi + v_t dt/2, the "
        << "spring advanced by the end-of-step velocity alone, put at the Coulomb limit after sliding, a new "
        << "contact half a step in; first order.\n\n"
        << "Near head-on (b = 0.3 mm) the spring still carries a force when the normal force fades, and the "

@@ -246,15 +246,16 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(non_rotating_particle_on_incline, D, Dims) {
 }
 
 // An undamped sticking contact (gamma_0 = gamma_t = 0, mu = 10) rings for 50 periods of its
-// tangential oscillation at the paper's t_c/50, with and without rotation. Evaluated with the
-// spring of the last step (Eq. 26 as printed), the spring lags the motion by half a step and its
-// amplitude grows by (pi/2) omega_t dt per period (measured 4.5% and 7.5% here, the energy 80 and
-// 450 times its initial value after 50 periods). With the trapezoid spring the growth must stay
-// below a hundredth of that (measured 2e-5 and 1e-4), and the total energy within 1% of the
-// contact's own energy of where it started (measured 0.2-0.4%, the integrator's O(dt^2); energy
-// counted from the stored spring, which runs half a step ahead, would be off by 1-1.6%).
+// tangential oscillation, with and without rotation, at the paper's t_c/50 and at 0.9 of the
+// stability limit. The spring advances with the half-step velocity, as the positions do, so the
+// contact is velocity Verlet's harmonic oscillator: it conserves K + U (1 - (omega_t dt)^2 / 4)
+// exactly, its amplitude neither grows nor decays, and K + U stays within (omega_t dt)^2 / 4 /
+// (1 - (omega_t dt)^2 / 4) of where it started. Evaluated with the spring of the last step
+// (Eq. 26 as printed) the amplitude grows by (pi/2) omega_t dt per period (4.5% and 7.5% at
+// t_c/50); with the trapezoid of two predicted velocities by about (omega_t dt)^3 per period
+// (1e-4 at t_c/50, several percent near the limit).
 template <int dim, class Law>
-void check_undamped_contact_keeps_energy(double inertia_factor) {
+void check_undamped_contact_keeps_energy(double inertia_factor, bool near_limit) {
     const int up = dim - 1;
     mm::Walls<dim> walls;
     walls.add_axis_aligned(up, true, 0.0);
@@ -266,7 +267,7 @@ void check_undamped_contact_keeps_energy(double inertia_factor) {
     sim.particles().add(x, a, m, inertia_factor * m * a * a);
     const double v0 = 1e-4;
     sim.particles().velocity()[0] = v0 * unit<dim>(0);
-    sim.set_time_step(mm::contact_duration(k, 0.0, m) / 50);
+    sim.set_time_step(near_limit ? 0.9 * sim.stable_time_step() : mm::contact_duration(k, 0.0, m) / 50);
     sim.prepare();
     const double e0 = sim.energy().total(), kinetic0 = 0.5 * m * v0 * v0;
     // Tangential mobility 1/m, plus a^2/I when the particle may turn.
@@ -284,19 +285,23 @@ void check_undamped_contact_keeps_energy(double inertia_factor) {
     }
     // Amplitude growth per period from the spring energy's peaks 45 periods apart.
     const double growth = std::pow(spring_last / spring_first, 1.0 / (2 * 45)) - 1.0;
-    const double printed_order_growth = std::numbers::pi / 2 * omega_dt;
+    const double band = omega_dt * omega_dt / 4 / (1 - omega_dt * omega_dt / 4);
     BOOST_TEST_MESSAGE(dim << "D undamped contact, rotation " << Law::needs_rotation << ", omega_t dt = " << omega_dt
-                           << ": amplitude growth per period " << growth << " (printed order: " << printed_order_growth
-                           << "); largest |E - E0| / E_kin(0) = " << worst / kinetic0);
+                           << ": amplitude growth per period " << growth << "; largest |E - E0| / E_kin(0) = "
+                           << worst / kinetic0 << " (leapfrog band " << band << ")");
     BOOST_TEST(!sim.particles().velocity()[0].hasNaN());
-    BOOST_TEST(std::abs(growth) < 0.01 * printed_order_growth);
-    BOOST_TEST(worst < 1e-2 * kinetic0);
+    // The peaks are sampled once a step: near the limit a sampled peak misses the true one by up
+    // to 1 - cos(omega_t dt / 2), in the first and the last five periods alike.
+    BOOST_TEST(std::abs(growth) < (near_limit ? 1e-3 : 1e-5));
+    BOOST_TEST(worst <= 1.02 * band * kinetic0);
     BOOST_TEST(sim.books().dissipated_sliding == 0.0);  // it stuck throughout
 }
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(undamped_sticking_contact_keeps_its_energy, D, Dims) {
-    check_undamped_contact_keeps_energy<D::value, mm::FrictionalLinear>(0.4);
-    check_undamped_contact_keeps_energy<D::value, mm::FrictionalLinearWithoutRotation>(0.4);
+    for (bool near_limit : {false, true}) {
+        check_undamped_contact_keeps_energy<D::value, mm::FrictionalLinear>(0.4, near_limit);
+        check_undamped_contact_keeps_energy<D::value, mm::FrictionalLinearWithoutRotation>(0.4, near_limit);
+    }
 }
 
 // Direct checks of the law: the force never exceeds the Coulomb limit mu_s f_n; a sliding contact
@@ -325,7 +330,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {
             BOOST_TEST_REQUIRE(std::abs(f.force.dot(n)) <= 1e-12 * (1 + f.force.norm()));
             if (f.sliding) {
                 ++sliding_seen;
-                const double spring = law.present_spring<dim>(n, v, 1e-5, h).norm();
+                const double spring = law.present_spring<dim>(n, h).norm();
                 BOOST_TEST_REQUIRE(std::abs(2e4 * spring - 0.4 * std::max(fn, 0.0)) <= 1e-12 * (1 + fn));
                 BOOST_TEST_REQUIRE(std::abs(f.force.norm() - 0.4 * std::max(fn, 0.0)) <= 1e-12 * (1 + fn));
             } else {
@@ -391,7 +396,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(static_and_dynamic_friction, D, Dims) {
     mm::TangentialSpring<dim> h;
     // Load the spring slowly: the force grows by kt * v * dt = 1e-3 per step.
     auto load = [&](double speed) { return law.force<dim, false>(n, speed * t, 0.0, 1.0, 1e-6, 1e-3, h); };  // v . n = 0
-    auto spring = [&](double speed) { return law.present_spring<dim>(n, speed * t, 1e-3, h).norm(); };
+    auto spring = [&] { return law.present_spring<dim>(n, h).norm(); };
     double largest_static = 0.0, first_sliding = 0.0;
     for (int s = 0; s < 2000 && !h.sliding; ++s) {
         const auto f = load(1.0);
@@ -401,20 +406,21 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(static_and_dynamic_friction, D, Dims) {
     BOOST_TEST(largest_static <= 0.6 + 1e-12);         // sticks up to mu_s f_n ...
     BOOST_TEST(largest_static > 0.6 - 1e-3 - 1e-12);  // ... (within one load increment)
     BOOST_TEST(std::abs(first_sliding - 0.4) < 1e-12);  // then slides at mu_d f_n
-    BOOST_TEST(std::abs(kt * spring(1.0) - 0.4) < 1e-12);  // with the spring at the limit
+    BOOST_TEST(std::abs(kt * spring() - 0.4) < 1e-12);  // with the spring at the limit
     // Continuing the motion keeps it sliding at mu_d f_n, not at mu_s f_n.
     for (int s = 0; s < 10; ++s) BOOST_TEST(std::abs(load(1.0).force.norm() - 0.4) < 1e-12);
     BOOST_TEST(h.sliding);
-    // Reversing the motion sticks again. The spring advances by the mean of the two evaluations'
-    // velocities (the trapezoid), zero over the reversing step: the force stays at mu_d f_n for
-    // that step, and each later step unloads the spring by k_t v dt = 1e-3.
+    // Reversing the motion sticks again and unloads the spring. The spring advances by the
+    // half-step velocity, which the law infers from velocity Verlet's predicted velocities,
+    // v*_{n+1} = (3 v_{n+1/2} - v_{n-1/2}) / 2: after the jump from +1 to -1 it is -1/3, then
+    // -7/9, then -25/27 (a jump is an infinite acceleration; in a simulation v* changes smoothly).
     const auto back = load(-1.0);
     BOOST_TEST(!back.sliding);
-    BOOST_TEST(std::abs(back.force.norm() - 0.4) < 1e-12);
-    BOOST_TEST(std::abs(kt * spring(-1.0) - 0.4) < 1e-12);
+    BOOST_TEST(std::abs(back.force.norm() - (0.4 - 1e-3 / 3)) < 1e-12);
+    BOOST_TEST(std::abs(kt * spring() - (0.4 - 1e-3 / 3)) < 1e-12);
     const auto unloading = load(-1.0);
     BOOST_TEST(!unloading.sliding);
-    BOOST_TEST(std::abs(unloading.force.norm() - (0.4 - 1e-3)) < 1e-12);
+    BOOST_TEST(std::abs(unloading.force.norm() - (0.4 - 1e-3 / 3 - 7e-3 / 9)) < 1e-12);
 }
 
 // Rotating the whole scene rotates the result: an oblique, spinning frictional collision.

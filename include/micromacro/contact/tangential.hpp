@@ -32,13 +32,15 @@ struct Frictionless {
     double stiffness() const { return 0.0; }
 };
 
-/// The Cundall-Strack tangential spring of Eq. 23-29, in 2D and 3D. The stored spring runs half
-/// a step ahead of the present one (see CundallStrack::force).
+/// The Cundall-Strack tangential spring of Eq. 23-29, in 2D and 3D, with what its next step
+/// needs to know of the last one (see CundallStrack::force).
 template <int dim>
 struct TangentialSpring {
-    Vec<dim> spring = Vec<dim>::Zero();  ///< xi of Eq. 23-28 at the present time plus v_t dt/2
+    Vec<dim> spring = Vec<dim>::Zero();  ///< xi of Eq. 23-28 at the last evaluation, t_n
+    Vec<dim> ahead = Vec<dim>::Zero();   ///< xi_n + dt v_{n-1/2} / 3, where the next step starts from
     bool sliding = false;                ///< Coulomb state, for the static/dynamic hysteresis
     bool touching = false;               ///< evaluated in contact before; false on a new contact
+    bool fresh = false;                  ///< the last evaluation was the contact's first
 };
 
 /// A contact's history as its other partner sees it, for when particles are renumbered and a
@@ -47,7 +49,7 @@ struct TangentialSpring {
 inline NoHistory seen_from_partner(NoHistory h) { return h; }
 template <int dim>
 TangentialSpring<dim> seen_from_partner(const TangentialSpring<dim>& h) {
-    return {Vec<dim>(-h.spring), h.sliding, h.touching};
+    return {Vec<dim>(-h.spring), Vec<dim>(-h.ahead), h.sliding, h.touching, h.fresh};
 }
 
 class CundallStrack {
@@ -90,24 +92,31 @@ public:
     /// n, so n . v_ij = n . (v_i - v_j)): one dot product less on the contact's longest chain of
     /// dependent operations.
     ///
-    /// Time stepping. The engine evaluates forces at t_n with the predicted velocity v_n of
-    /// velocity Verlet (the velocity-dependent forces need the velocity at the new time). The
-    /// spring that gives the force is xi_n = xi_{n-1} + (v_{n-1} + v_n) dt/2: the trapezoid in the
-    /// tangential velocity, which advances xi over each step by the step's mean velocity, as the
-    /// positions advance: second order, and the spring's work over a step equals the change of
-    /// its energy. The mean of two predicted velocities differs from the half-step velocity of
-    /// velocity Verlet by dt^2/4 (a_n - a_{n-1}), so an undamped sticking contact still grows by
-    /// about (omega_t dt)^3 per period (1e-4 at t_c/50; see BasicSimulation::stable_time_step).
-    /// The history stores xi_n + v_n dt/2, so the next evaluation adds only its own v_{n+1} dt/2
-    /// and nothing else per contact is kept. This holds for sliding too: Eq. 28 puts xi_n at the
-    /// Coulomb limit and the history stores that plus v_n dt/2. (Storing the limit itself lags
-    /// the spring by half a step after every sliding step: a sliding contact then sticks one step
-    /// in two while the limit grows, a first-order error.)
+    /// Time stepping. The spring advances as the positions do: xi_{n+1} = xi_n + dt v_{n+1/2},
+    /// with the half-step velocity of velocity Verlet. The tangential spring is then a leapfrog
+    /// oscillator like the normal one: second order, symplectic (an undamped sticking contact
+    /// neither grows nor decays at any stable dt), and its energy is a function of the
+    /// positions. The engine evaluates forces with the predicted velocity v*_{n+1} = v_{n+1/2} +
+    /// (dt/2) a_n (the dashpots need the velocity at the new time), and the kicks give v_{n+1/2} =
+    /// v_{n-1/2} + dt a_n, so v*_{n+1} = (3 v_{n+1/2} - v_{n-1/2}) / 2 and the half-step velocity
+    /// follows from the predicted one and the last step's: v_{n+1/2} = (2 v*_{n+1} + v_{n-1/2}) / 3,
+    /// exact for any forces (in the contact's frame up to its rotation within a step). The last
+    /// step's dt v_{n-1/2} is the spring's last advance, so the history keeps xi_n and
+    /// xi_n + dt v_{n-1/2} / 3 (`ahead`), and xi_{n+1} = P(ahead) + (2/3) dt v*_t,{n+1} with P the
+    /// projection of Eq. 23: one projection per contact, as for the spring alone. The dashpot
+    /// sees v* (second order, like the normal dashpot). After a sliding step the spring sits at
+    /// the Coulomb limit (Eq. 28) and the step's advance is kept as it moved.
     ///
-    /// A new contact has touched for part of a step only: xi_n = v_n tau with tau = overlap /
+    /// Cheaper schemes fail in ways tests/physics/tangential.cpp shows: the spring of the last
+    /// step (Eq. 26 as printed) lags half a step, first order, and an undamped contact grows by
+    /// (pi/2) omega_t dt per period; advancing by the mean of two predicted velocities is second
+    /// order but grows by about (omega_t dt)^3 per period, several percent near the stability limit.
+    ///
+    /// A new contact has touched for part of a step only: xi = v*_t tau with tau = overlap /
     /// approach speed, the time since the surfaces met (at most dt). Taking half a step instead
     /// is right only on average over where in the step the contact began and leaves an error of
-    /// order dt in every spring that follows from it.
+    /// order dt in every spring that follows from it. A contact first seen while not approaching
+    /// was placed so and starts unloaded.
     ///
     /// tests/physics/tangential.cpp checks the order on oblique impacts, the energy of an
     /// undamped sticking contact, the Coulomb limit and the hysteresis.
@@ -118,10 +127,21 @@ public:
             return force_along_line<track_energy>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
         using V = Vec<dim>;
         TangentialForce<dim> out;
-        const V stored = h.spring - n * n.dot(h.spring);                         // Eq. 23
         const V vt = relative_velocity - n * normal_velocity;                    // Eq. 24
-        const double lead = h.touching ? 0.5 * dt : time_in_contact(overlap, normal_velocity, dt);
-        const V spring = stored + lead * vt;                                     // Eq. 27: xi_n
+        V base = V::Zero(), motion;
+        double span;
+        if (h.touching) [[likely]] {
+            // xi_{n+1} = xi_n + dt v_{n+1/2} with dt v_{n+1/2} = (2 dt v*_{n+1} + dt v_{n-1/2}) / 3.
+            base = h.ahead;
+            span = (2.0 / 3.0) * dt;
+        } else {
+            span = time_in_contact(overlap, normal_velocity, dt);
+        }
+        const V spring = base - n * n.dot(base) + span * vt;                    // Eq. 23, 27: xi_{n+1}
+        if (h.touching) [[likely]]
+            motion = spring - h.spring;  // dt v_{n+1/2} (and the projection's change, which the next one removes)
+        else
+            motion = dt * vt;            // as if it had moved at v_t for the whole step
         const V trial = -kt_ * spring - gamma_t_ * vt;                           // Eq. 26
         const double fn = std::max(normal_force, 0.0);
         // Compared squared: the square root is needed only by a sliding contact.
@@ -131,27 +151,27 @@ public:
         // motion reverses and unloads the spring (v_t against the stored spring, which points
         // along the last slip). Whatever the state, a trial force above mu_s f_n slides.
         const bool sliding = trial_sq > static_limit * static_limit ||
-                             (h.sliding && trial_sq >= dynamic_limit * dynamic_limit && vt.dot(stored) >= 0.0);
+                             (h.sliding && trial_sq >= dynamic_limit * dynamic_limit && vt.dot(h.spring) >= 0.0);
         if (!sliding) {
             out.force = trial;
-            h.spring = spring + (0.5 * dt) * vt;
+            h.spring = spring;
             if constexpr (track_energy) out.dissipated_viscous = gamma_t_ * vt.squaredNorm() * dt;
         } else {
-            // h still holds the step's old spring here (read only where needed: computed for every
-            // contact it costs a spilled register in the pair loop).
-            [[maybe_unused]] const double energy_before = track_energy ? elastic_energy<dim>(h.spring) : 0.0;
             const double limit = dynamic_limit, trial_magnitude = std::sqrt(trial_sq);
             const V t = trial_magnitude > 0.0 ? V(trial / trial_magnitude) : V(V::Zero());
             out.force = limit * t;                                               // Eq. 29
-            h.spring = -(limit / kt_) * t + (0.5 * dt) * vt;                     // Eq. 28, stored as above
-            // Energy the step took out of the pair that the spring did not store. Counted in the
-            // stored springs, which run v_t dt/2 ahead: a sticking step changes their energy by
-            // exactly the spring's work k_t xi_n . v_n dt (the trapezoid), so the books close
-            // over any sequence of sticking and sliding steps.
-            if constexpr (track_energy)
-                out.dissipated_sliding = -out.force.dot(vt) * dt - (elastic_energy<dim>(h.spring) - energy_before);
+            // The work of the mean of the step's two spring forces over the step's displacement,
+            // less what the spring stored (zero for a sticking step, exactly).
+            if constexpr (track_energy) {
+                const V stored = h.spring - n * n.dot(h.spring);  // Eq. 23
+                out.dissipated_sliding = 0.5 * (kt_ * stored - out.force).dot(spring - stored) -
+                                         (elastic_energy<dim>(V(-(limit / kt_) * t)) - elastic_energy<dim>(h.spring));
+            }
+            h.spring = -(limit / kt_) * t;                                       // Eq. 28
         }
+        h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
+        h.fresh = !h.touching;
         h.touching = true;
         out.sliding = sliding;
         return out;
@@ -166,70 +186,104 @@ public:
                                                           double normal_force, double overlap, double dt, History<2>& h) const {
         TangentialForce<2> out;
         const Vec<2> t(-n.y(), n.x());
-        const double stored = t.dot(h.spring);                         // Eq. 23: the spring's part in the new tangent
         const double vt = t.dot(relative_velocity);                    // Eq. 24
-        const double lead = h.touching ? 0.5 * dt : time_in_contact(overlap, normal_velocity, dt);
-        const double spring = stored + lead * vt;                      // Eq. 27: xi_n
+        double base = 0.0, span;
+        if (h.touching) [[likely]] {  // as in the vector form
+            base = t.dot(h.ahead);
+            span = (2.0 / 3.0) * dt;
+        } else {
+            span = time_in_contact(overlap, normal_velocity, dt);
+        }
+        const double spring = base + span * vt;                        // Eq. 23, 27: xi_{n+1} along the new tangent
+        Vec<2> motion;  // as in the vector form
+        if (h.touching) [[likely]]
+            motion = spring * t - h.spring;
+        else
+            motion = (dt * vt) * t;
         const double trial = -kt_ * spring - gamma_t_ * vt;            // Eq. 26
         const double fn = std::max(normal_force, 0.0), trial_magnitude = std::abs(trial);
         const double static_limit = mu_s_ * fn, dynamic_limit = mu_d_ * fn;
         // The hysteresis and reversal test of the vector form.
         const bool sliding = trial_magnitude > static_limit ||
-                             (h.sliding && trial_magnitude >= dynamic_limit && vt * stored >= 0.0);
+                             (h.sliding && trial_magnitude >= dynamic_limit && vt * t.dot(h.spring) >= 0.0);
         if (!sliding) {
             out.force = trial * t;
-            h.spring = (spring + 0.5 * dt * vt) * t;
+            h.spring = spring * t;
             if constexpr (track_energy) out.dissipated_viscous = gamma_t_ * vt * vt * dt;
         } else {
-            [[maybe_unused]] const double energy_before = track_energy ? elastic_energy<2>(h.spring) : 0.0;
             const double direction = trial > 0.0 ? 1.0 : (trial < 0.0 ? -1.0 : 0.0);
-            out.force = (dynamic_limit * direction) * t;                     // Eq. 29
-            h.spring = (-(dynamic_limit / kt_) * direction + 0.5 * dt * vt) * t;  // Eq. 28, stored as above
-            if constexpr (track_energy)  // as in the vector form
-                out.dissipated_sliding = -dynamic_limit * direction * vt * dt - (elastic_energy<2>(h.spring) - energy_before);
+            const double force = dynamic_limit * direction;
+            out.force = force * t;                                                     // Eq. 29
+            if constexpr (track_energy) {  // as in the vector form
+                const double stored = t.dot(h.spring);
+                out.dissipated_sliding = 0.5 * (kt_ * stored - force) * (spring - stored) -
+                                         (0.5 * force * force / kt_ - elastic_energy<2>(h.spring));
+            }
+            h.spring = (-force / kt_) * t;                                             // Eq. 28
         }
+        h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
+        h.fresh = !h.touching;
         h.touching = true;
         out.sliding = sliding;
         return out;
     }
 
     /// The time a contact first seen with this overlap has been touching: overlap / approach
-    /// speed, at most one step (it did not touch at the last evaluation).
+    /// speed, at most one step (it did not touch at the last evaluation). A contact first seen
+    /// while not approaching was placed so (a prepared packing): it starts unloaded.
     static double time_in_contact(double overlap, double normal_velocity, double dt) {
+        if (!(normal_velocity < 0.0)) return 0.0;
         return overlap < -normal_velocity * dt ? overlap / -normal_velocity : dt;
     }
 
-    /// The spring xi of the last evaluation, from the stored one, which runs v_t dt/2 ahead:
-    /// exact for the predicted velocity that evaluation used, and with the velocity after the
-    /// step's last kick second order (the two differ by O(dt^2)).
+    /// The spring xi of the last evaluation, in the tangent plane of n.
     template <int dim>
-    Vec<dim> present_spring(const Vec<dim>& n, const Vec<dim>& relative_velocity, double dt, const History<dim>& h) const {
-        if (!h.touching) return Vec<dim>::Zero();
-        return in_tangent_plane(n, h.spring) - (0.5 * dt) * in_tangent_plane(n, relative_velocity);
+    Vec<dim> present_spring(const Vec<dim>& n, const History<dim>& h) const {
+        return in_tangent_plane(n, h.spring);
     }
 
     /// The tangential force of the present state without advancing the spring: Eq. 26 with the
     /// spring of the last evaluation, capped at the Coulomb limit of the contact's current
-    /// friction state. Analysis uses it; it is the force of the last evaluation to O(dt^2).
+    /// friction state. Analysis uses it; it is the force of the last evaluation to O(dt).
     template <int dim>
-    Vec<dim> current_force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force, double dt,
+    Vec<dim> current_force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_force,
                            const History<dim>& h) const {
-        const Vec<dim> trial =
-            -kt_ * present_spring<dim>(n, relative_velocity, dt, h) - gamma_t_ * in_tangent_plane(n, relative_velocity);
+        const Vec<dim> trial = -kt_ * present_spring<dim>(n, h) - gamma_t_ * in_tangent_plane(n, relative_velocity);
         const double limit = (h.sliding ? mu_d_ : mu_s_) * std::max(normal_force, 0.0);
         const double magnitude = trial.norm();
         return magnitude > limit ? Vec<dim>(trial * (limit / magnitude)) : trial;
     }
 
-    /// Takes back the half step the stored spring runs ahead, so that the next evaluation,
-    /// at step dt_next, finds the spring of the last one (made with step dt_last): the engine
-    /// calls it before evaluating the same instant again (a re-prepare, an imposed deformation),
-    /// which would otherwise advance the spring a second time.
+    /// An imposed tangential displacement of the contact points (an affine deformation of the
+    /// scene): the spring takes it up, and so does where its next step starts.
+    template <int dim>
+    void displace(const Vec<dim>& tangential_displacement, History<dim>& h) const {
+        h.spring += tangential_displacement;
+        h.ahead += tangential_displacement;
+    }
+
+    /// Takes back the last evaluation's advance of the spring, so that evaluating the same instant
+    /// again (a re-prepare, an imposed deformation; the engine calls this first) does not advance
+    /// it twice. A contact that was new then is new again. Otherwise the relative acceleration a
+    /// follows from the present velocity v and the half-step velocity v - (dt_last/2) a of the
+    /// last step, (spring - previous) / dt_last; the history is set so that the next evaluation,
+    /// with velocity v and step dt_next, finds the present spring and the half-step velocity
+    /// v - (dt_next/2) a.
     template <int dim>
     void step_back(const Vec<dim>& n, const Vec<dim>& relative_velocity, double dt_last, double dt_next,
                    History<dim>& h) const {
-        if (h.touching) h.spring -= (0.5 * (dt_last + dt_next)) * in_tangent_plane(n, relative_velocity);
+        if (!h.touching) return;
+        if (h.fresh) {
+            h = History<dim>{};
+            return;
+        }
+        const Vec<dim> v = in_tangent_plane(n, relative_velocity), spring = in_tangent_plane(n, h.spring);
+        const Vec<dim> half_kick = (v - in_tangent_plane(n, Vec<dim>(3.0 * (h.ahead - h.spring))) / dt_last) * (dt_next / dt_last);
+        // The re-evaluation's (2 dt v + motion) / 3 is then dt (v - half_kick).
+        const Vec<dim> motion = dt_next * (v - 3.0 * half_kick);
+        h.spring = spring - dt_next * (v - half_kick);
+        h.ahead = h.spring + (1.0 / 3.0) * motion;
     }
 
 private:

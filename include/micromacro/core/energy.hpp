@@ -26,11 +26,13 @@ struct EnergyBooks {
         work_by_deformation += o.work_by_deformation;
     }
 
-    /// Adds the mean of two evaluations' bookings (trapezoid rule).
+    /// Adds the mean of two evaluations' bookings (trapezoid rule), `a` the later. Rates times dt
+    /// are booked so; Coulomb sliding is booked as what the step ending at `a` dissipated, wholly
+    /// at `a` (see CundallStrack::force).
     void add_mean(const EnergyBooks& a, const EnergyBooks& b) {
         dissipated_normal += 0.5 * (a.dissipated_normal + b.dissipated_normal);
         dissipated_tangential += 0.5 * (a.dissipated_tangential + b.dissipated_tangential);
-        dissipated_sliding += 0.5 * (a.dissipated_sliding + b.dissipated_sliding);
+        dissipated_sliding += a.dissipated_sliding;
         dissipated_background += 0.5 * (a.dissipated_background + b.dissipated_background);
         dissipated_walls += 0.5 * (a.dissipated_walls + b.dissipated_walls);
         work_by_walls += 0.5 * (a.work_by_walls + b.work_by_walls);

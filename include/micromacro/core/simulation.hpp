@@ -465,7 +465,7 @@ public:
         if constexpr (has_tangential) {
             auto load = [&](History& h, const V& l) {
                 const V n = l.normalized(), moved = F * l - l;
-                h.spring += moved - n * n.dot(moved);
+                law_.tangential.displace(V(moved - n * n.dot(moved)), h);
             };
             for (std::size_t c = 0; c < pairs_.size(); ++c) {
                 const auto [i, j] = pairs_.pairs()[c];
@@ -936,8 +936,8 @@ private:
         c.elastic_energy = law_.normal.elastic_energy(overlap);
         if constexpr (has_tangential) {
             if (smooth) return c;
-            c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), evaluated_dt_, *h);
-            c.elastic_energy += law_.tangential.elastic_energy(law_.tangential.present_spring(n, vr, evaluated_dt_, *h));
+            c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), *h);
+            c.elastic_energy += law_.tangential.elastic_energy(law_.tangential.present_spring(n, *h));
             c.sliding = h->sliding;
         }
         return c;
@@ -1111,7 +1111,7 @@ private:
     std::vector<WallBooks> wall_books_;
     double initial_energy_ = 0.0;
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
-    double evaluated_dt_ = 0.0;  // the step of the last force evaluation: the springs run half of it ahead
+    double evaluated_dt_ = 0.0;  // the step of the last force evaluation, which advanced the springs
     std::size_t steps_ = 0, rebuilds_ = 0;
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
     bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick
