@@ -107,7 +107,7 @@ public:
     /// sees v* (second order, like the normal dashpot). After a sliding step the spring sits at
     /// the Coulomb limit (Eq. 28) and the step's advance is kept as it moved.
     ///
-    /// Cheaper schemes fail in ways tests/physics/tangential.cpp shows: the spring of the last
+    /// Cheaper schemes fail (docs/model.md; measured in tests/physics/tangential.cpp): the spring of the last
     /// step (Eq. 26 as printed) lags half a step, first order, and an undamped contact grows by
     /// (pi/2) omega_t dt per period; advancing by the mean of two predicted velocities is second
     /// order but grows by about (omega_t dt)^3 per period, several percent near the stability limit.
