@@ -23,6 +23,7 @@
 
 #include "../command_line.hpp"
 #include "biaxial.hpp"
+#include "quality.hpp"
 #ifdef MICROMACRO_HAVE_VTK
 #include <micromacro/io/vtk.hpp>
 #endif
@@ -79,7 +80,9 @@ nlohmann::ordered_json parameters(const Config& c) {
             {"relax_s", c.relax},
             {"dt_fraction", c.dt_fraction},
             {"seed", c.seed},
+            {"damping", c.damping},
             {"gamma_b_kg_s", c.gamma_b},
+            {"local_damping", c.local_damping},
             {"gamma_b_prepare_kg_s", c.gamma_b_prepare},
             {"gamma_r_kg_m2_s", c.rotational_damping(c.gamma_b)},
             {"wall_mass_kg", c.wall_mass},
@@ -112,7 +115,9 @@ Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     c.relax = p.at("relax_s");
     c.dt_fraction = p.at("dt_fraction");
     c.seed = p.at("seed");
+    c.damping = p.at("damping");
     c.gamma_b = p.at("gamma_b_kg_s");
+    c.local_damping = p.at("local_damping");
     c.gamma_b_prepare = p.at("gamma_b_prepare_kg_s");
     c.wall_mass = p.at("wall_mass_kg");
     c.wall_damping = p.at("wall_damping_kg_s");
@@ -324,7 +329,8 @@ int run(const Config& c, const Plan& plan) {
     const double peak_wall_speed = peak_rate * box[dim - 1];
     double side = 1.0;
     for (int k = 0; k < dim - 1; ++k) side *= box[k];
-    const double background_drag = c.gamma_b * n * 0.5 * peak_wall_speed / (c.pressure * side);
+    // Affine and local damping put no drag on the mean flow.
+    const double background_drag = c.damping == "lab" ? c.gamma_b * n * 0.5 * peak_wall_speed / (c.pressure * side) : 0.0;
     nlohmann::ordered_json j;
     j["program"] = "micromacro biaxial";
     j["version"] = "0.1.0";
@@ -340,6 +346,21 @@ int run(const Config& c, const Plan& plan) {
                     {"wall_damping_time_s", c.wall_damping > 0 ? 2.0 * c.wall_mass / c.wall_damping : 0.0},
                     {"box_after_preparation_m", box},
                     {"final_eps_zz", exp.eps_zz()}};
+    const auto q = biaxial::loading_quality(biaxial::read_timeseries((out / "timeseries.csv").string()), dim, c.pressure,
+                                            c.final_strain);
+    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
+    auto finite_all = [&](const std::vector<double>& v) {
+        nlohmann::ordered_json a = nlohmann::ordered_json::array();
+        for (double x : v) a.push_back(finite(x));
+        return a;
+    };
+    j["quality"] = {{"roughness_sigma_zz", finite(q.roughness_sigma_zz)},
+                    {"roughness_sigma_wall_zz", finite(q.roughness_sigma_wall_zz)},
+                    {"fixed_side_wall_mean", finite_all(q.fixed_side_wall)},
+                    {"controlled_side_wall_mean", finite_all(q.controlled_side_wall)},
+                    {"controlled_side_wall_rms_deviation_over_p", finite_all(q.controlled_rms_deviation)},
+                    {"inner_minus_wall_stress_over_wall_stress_median", finite_all(q.inner_over_wall)},
+                    {"damping_energy_over_wall_work", finite(q.damping_over_wall_work)}};
     j["timing"] = {{"started", started},
                    {"finished", now_iso()},
                    {"resumed", plan.resume},
@@ -395,11 +416,13 @@ int main(int argc, char** argv) {
     auto* relax = app.add_option("--relax", "relaxation after T/2 in s");
     auto* dtf = app.add_option("--dt-fraction", "dt = t_c / this, t_c of two mean particles (default 50)");
     auto* seed = app.add_option("--seed", "random seed of the initial placement (default 1)");
-    auto* gb = app.add_option("--gamma-b", "background damping while loading in kg/s (default 1e-4)");
+    auto* damping = app.add_option("--damping", "damping while loading: affine (default: Eq. 30 against the walls' mean flow), lab (Eq. 30 as printed) or local (Cundall's)");
+    auto* gb = app.add_option("--gamma-b", "lab or affine damping while loading in kg/s (default 5e-2; the paper's lab damping was 1e-4)");
+    auto* local = app.add_option("--local-damping", "alpha of the local damping while loading (default 0.2)");
     auto* gbp = app.add_option("--gamma-b-prepare", "background damping while preparing in kg/s (default 1e-3)");
     auto* ps = app.add_option("--prepare-speed", "wall speed while preparing in m/s: wall damping = p A / speed (default 0: 5 m/s, in proportion to p/k below p/k = 1e-5)");
     auto* mw = app.add_option("--wall-mass", "m_w of Eq. 18 in kg (default 1e-4)");
-    auto* gw = app.add_option("--wall-damping", "gamma_w of Eq. 18 in kg/s while loading (default 0.63)");
+    auto* gw = app.add_option("--wall-damping", "gamma_w of Eq. 18 in kg/s while loading (default 0)");
     auto* gwt = app.add_option("--wall-follow-time", "the side wall's damper follows its velocity with this time constant in s "
                                                      "(0: Eq. 18, anchored; see walls.hpp)");
     auto* interval = app.add_option("--output-interval", "time between rows of timeseries.csv in s");
@@ -437,7 +460,9 @@ int main(int argc, char** argv) {
         set(relax, c.relax);
         set(dtf, c.dt_fraction);
         set(seed, c.seed);
+        set(damping, c.damping);
         set(gb, c.gamma_b);
+        set(local, c.local_damping);
         set(gbp, c.gamma_b_prepare);
         set(ps, c.prepare_speed);
         set(mw, c.wall_mass);

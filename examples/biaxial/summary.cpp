@@ -8,6 +8,7 @@
 // the final strain on). The swings of the stress are taken over the middle 60% of the motion
 // (t from 0.2 to 0.8 of its duration): the 5th and 95th percentiles of single rows, and the
 // upward crossings of sigma_zz through its centred 25-row running mean, which give the mean period.
+// Then the quality figures of run.json (examples/biaxial/quality.hpp), where the run wrote them.
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -95,6 +96,27 @@ int main(int argc, char** argv) {
     std::printf("| there: sigma_zz, 5th and 95th percentiles; upward crossings of its 25-row running mean, mean period | %.1f, %.1f %s; %d, %.2g s |\n",
                 biaxial::quantile(szz, 0.05), biaxial::quantile(szz, 0.95), dim == 2 ? "N/m" : "Pa", crossings,
                 crossings > 0 ? (time[last] - time[first]) / crossings : NAN);
+    if (run.contains("quality")) {  // examples/biaxial/quality.hpp
+        const auto& q = run["quality"];
+        auto list = [](const nlohmann::json& a) {
+            std::string t;
+            for (const auto& x : a) {
+                char b[32];
+                std::snprintf(b, sizeof b, "%s%.3g", t.empty() ? "" : " / ", x.is_number() ? double(x) : NAN);
+                t += b;
+            }
+            return t;
+        };
+        auto number = [](const nlohmann::json& x) { return x.is_number() ? double(x) : NAN; };
+        std::printf("| roughness of sigma_zz, of sigma_wall_zz | %.3f, %.3f |\n", number(q["roughness_sigma_zz"]),
+                    number(q["roughness_sigma_wall_zz"]));
+        std::printf("| side walls' mean push, fixed; controlled; controlled rms off p | %s; %s; %s |\n",
+                    list(q["fixed_side_wall_mean"]).c_str(), list(q["controlled_side_wall_mean"]).c_str(),
+                    list(q["controlled_side_wall_rms_deviation_over_p"]).c_str());
+        std::printf("| inner-box over wall stress, median relative gap per axis | %s |\n",
+                    list(q["inner_minus_wall_stress_over_wall_stress_median"]).c_str());
+        std::printf("| damping's energy over the walls' work | %.3f |\n", number(q["damping_energy_over_wall_work"]));
+    }
     std::printf("| cost | %.0f s wall, %.3g particle-steps/s, %.3g steps |\n", double(run["timing"]["wall_seconds"]),
                 double(run["timing"]["particle_steps_per_second"]), double(run["timing"]["steps"]));
     return 0;

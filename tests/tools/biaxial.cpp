@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "biaxial/quality.hpp"
 #include "biaxial/timeseries.hpp"
 #include "support/programs.hpp"
 
@@ -292,4 +293,37 @@ BOOST_AUTO_TEST_CASE(summary_statistics) {
     BOOST_TEST(std::abs(level[500]) < 1e-12);
     BOOST_TEST(biaxial::upward_crossings(wave, level, 12, 987) == 39);
     BOOST_TEST(biaxial::upward_crossings(wave, level, 25, 50) == 1);  // row 25 itself needs row 24 before it
+}
+
+// The quality figures of run.json on a constructed series with known answers: a stress that
+// rises linearly with the strain has no roughness (the running mean of a line is the line); one
+// with a fast sinusoid of relative amplitude A on top has A / sqrt(2); constant wall pushes give
+// their means, deviations and gaps exactly (rows 1.1e-4 of strain apart, so no row sits on the
+// edge of a +-0.005 window and every window is symmetric); the damping's share of the walls' work is the ratio
+// of the two columns' growth.
+BOOST_AUTO_TEST_CASE(quality_of_a_known_series) {
+    std::map<std::string, std::vector<double>> col;
+    const double p = 20.0, final_strain = 0.2, A = 0.05;
+    for (int r = 0; r <= 2200; ++r) {
+        const double strain = std::min(1.1e-4 * r, final_strain), line = 40.0 + 100.0 * strain;
+        col["time"].push_back(5e-4 * r);
+        col["strain_22"].push_back(strain);
+        col["sigma_22"].push_back(line * (1.0 + A * std::sin(2 * std::numbers::pi * strain / 0.001)));
+        col["sigma_wall_22"].push_back(line);
+        col["sigma_11"].push_back(1.01 * p);
+        col["sigma_wall_11"].push_back(p);
+        col["sigma_wall_11_lower"].push_back(0.98 * p);
+        col["sigma_wall_11_upper"].push_back(r % 2 ? 1.03 * p : 0.97 * p);
+        col["dissipated_background"].push_back(2.0 * r);
+        col["work_by_walls"].push_back(10.0 * r);
+    }
+    const auto q = biaxial::loading_quality(col, 2, p, final_strain);
+    BOOST_TEST(q.roughness_sigma_wall_zz < 1e-12);  // a window of whole rows either side, away from the ends of the motion
+    BOOST_TEST(std::abs(q.roughness_sigma_zz / (A / std::sqrt(2.0)) - 1.0) < 0.02);
+    BOOST_TEST(q.fixed_side_wall[0] == 0.98 * p, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(q.controlled_side_wall[0] == p, boost::test_tools::tolerance(1e-3));  // one more 0.97 than 1.03 in 1819 rows
+    BOOST_TEST(q.controlled_rms_deviation[0] == 0.03, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(q.inner_over_wall[0] == 0.01, boost::test_tools::tolerance(1e-9));
+    BOOST_TEST(std::abs(q.inner_over_wall[1]) < 1e-3);  // the sinusoid's median, about zero
+    BOOST_TEST(q.damping_over_wall_work == 0.2, boost::test_tools::tolerance(1e-12));
 }

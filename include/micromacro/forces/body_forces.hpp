@@ -39,6 +39,7 @@ struct BackgroundDamping {
             t = p.template get<field::Torque>().data();
             w = p.template get<field::AngularVelocity>().data();
         }
+        if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
         const Real gamma_b = static_cast<Real>(translational), gamma_r = static_cast<Real>(rotational);
         const std::size_t n = p.size();
         double v_sq = 0.0, w_sq = 0.0;
@@ -72,24 +73,27 @@ struct AffineDamping {
 
     template <bool track_energy, int dim, bool rot, class Real>
     void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, const AffineField<dim>& field) const {
+        if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
         auto& f = p.template get<field::Force>();
         const auto& x = p.template get<field::Position>();
         const auto& v = p.template get<field::Velocity>();
         [[maybe_unused]] const Angular<dim> spin = field.spin();
         double power = 0.0;
         for (std::size_t i = 0; i < p.size(); ++i) {
-            const Vec<dim> relative = convert<double>(v[i]) - field.velocity(convert<double>(x[i]));
+            const Vec<dim> velocity = convert<double>(v[i]), relative = velocity - field.velocity(convert<double>(x[i]));
             f[i] -= convert<Real>(Vec<dim>(translational * relative));
-            if constexpr (track_energy) power += translational * relative.squaredNorm();
+            if constexpr (track_energy) power += translational * relative.dot(velocity);
             if constexpr (rot) {
                 auto& t = p.template get<field::Torque>()[i];
-                const Angular<dim> turning = convert<double>(p.template get<field::AngularVelocity>()[i]) - spin;
+                const Angular<dim> omega = convert<double>(p.template get<field::AngularVelocity>()[i]), turning = omega - spin;
                 t -= convert<Real>(Angular<dim>(rotational * turning));
-                if constexpr (track_energy) power += rotational * DimTraits<dim>::squared_norm(turning);
+                if constexpr (track_energy) power += rotational * DimTraits<dim>::dot(turning, omega);
             }
         }
-        // The power against the relative motion; the drag's work against the mean flow itself is
-        // zero only where the flow is affine and so, like Eq. 30's, it is booked as dissipated.
+        // What the drag takes from the particles, gamma (v - u) . v: gamma |v - u|^2 against the
+        // relative motion, plus gamma (v - u) . u against the mean flow, which the walls' work
+        // supplies (it is not zero where the motion is not affine); booked as dissipated, so the
+        // energy books close.
         if constexpr (track_energy) books.dissipated_background += power * dt;
     }
 };
@@ -112,6 +116,7 @@ struct LocalDamping {
 
     template <bool track_energy, int dim, bool rot, class Real>
     void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt) const {
+        if (alpha == 0.0) return;  // listed but off: no pass
         auto& f = p.template get<field::Force>();
         const auto& v = p.template get<field::Velocity>();
         double power = 0.0;
