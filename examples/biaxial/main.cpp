@@ -417,7 +417,7 @@ int main(int argc, char** argv) {
     auto* dtf = app.add_option("--dt-fraction", "dt = t_c / this, t_c of two mean particles (default 50)");
     auto* seed = app.add_option("--seed", "random seed of the initial placement (default 1)");
     auto* damping = app.add_option("--damping", "damping while loading: affine (default: Eq. 30 against the walls' mean flow), lab (Eq. 30 as printed) or local (Cundall's)");
-    auto* gb = app.add_option("--gamma-b", "lab or affine damping while loading in kg/s (default 5e-2; the paper's lab damping was 1e-4)");
+    auto* gb = app.add_option("--gamma-b", "lab or affine damping while loading in kg/s (default 5e-2 affine, 1e-4 lab as in the paper)");
     auto* local = app.add_option("--local-damping", "alpha of the local damping while loading (default 0.2)");
     auto* gbp = app.add_option("--gamma-b-prepare", "background damping while preparing in kg/s (default 1e-3)");
     auto* ps = app.add_option("--prepare-speed", "wall speed while preparing in m/s: wall damping = p A / speed (default 0: 5 m/s, in proportion to p/k below p/k = 1e-5)");
@@ -461,6 +461,7 @@ int main(int argc, char** argv) {
         set(dtf, c.dt_fraction);
         set(seed, c.seed);
         set(damping, c.damping);
+        if (c.damping == "lab") c.gamma_b = 1e-4;  // Eq. 30's weak damping unless --gamma-b says otherwise: strong lab damping drags the flow
         set(gb, c.gamma_b);
         set(local, c.local_damping);
         set(gbp, c.gamma_b_prepare);
