@@ -348,19 +348,14 @@ int run(const Config& c, const Plan& plan) {
                     {"final_eps_zz", exp.eps_zz()}};
     const auto q = biaxial::loading_quality(biaxial::read_timeseries((out / "timeseries.csv").string()), dim, c.pressure,
                                             c.final_strain);
-    auto finite = [](double v) { return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr); };
-    auto finite_all = [&](const std::vector<double>& v) {
-        nlohmann::ordered_json a = nlohmann::ordered_json::array();
-        for (double x : v) a.push_back(finite(x));
-        return a;
-    };
-    j["quality"] = {{"roughness_sigma_zz", finite(q.roughness_sigma_zz)},
-                    {"roughness_sigma_wall_zz", finite(q.roughness_sigma_wall_zz)},
-                    {"fixed_side_wall_mean", finite_all(q.fixed_side_wall)},
-                    {"controlled_side_wall_mean", finite_all(q.controlled_side_wall)},
-                    {"controlled_side_wall_rms_deviation_over_p", finite_all(q.controlled_rms_deviation)},
-                    {"inner_minus_wall_stress_over_wall_stress_median", finite_all(q.inner_over_wall)},
-                    {"damping_energy_over_wall_work", finite(q.damping_over_wall_work)}};
+    // Figures that cannot be taken (too few rows) are NaN, which nlohmann::json writes as null.
+    j["quality"] = {{"roughness_sigma_zz", q.roughness_sigma_zz},
+                    {"roughness_sigma_wall_zz", q.roughness_sigma_wall_zz},
+                    {"fixed_side_wall_mean", q.fixed_side_wall},
+                    {"controlled_side_wall_mean", q.controlled_side_wall},
+                    {"controlled_side_wall_rms_deviation_over_p", q.controlled_rms_deviation},
+                    {"inner_minus_wall_stress_over_wall_stress_median", q.inner_over_wall},
+                    {"damping_energy_over_wall_work", q.damping_over_wall_work}};
     j["timing"] = {{"started", started},
                    {"finished", now_iso()},
                    {"resumed", plan.resume},

@@ -160,14 +160,15 @@ public:
             const double limit = dynamic_limit, trial_magnitude = std::sqrt(trial_sq);
             const V t = trial_magnitude > 0.0 ? V(trial / trial_magnitude) : V(V::Zero());
             out.force = limit * t;                                               // Eq. 29
+            const V at_limit = -(limit / kt_) * t;                               // Eq. 28
             // The work of the mean of the step's two spring forces over the step's displacement,
             // less what the spring stored (zero for a sticking step, exactly).
             if constexpr (track_energy) {
                 const V stored = h.spring - n * n.dot(h.spring);  // Eq. 23
                 out.dissipated_sliding = 0.5 * (kt_ * stored - out.force).dot(spring - stored) -
-                                         (elastic_energy<dim>(V(-(limit / kt_) * t)) - elastic_energy<dim>(h.spring));
+                                         (elastic_energy<dim>(at_limit) - elastic_energy<dim>(h.spring));
             }
-            h.spring = -(limit / kt_) * t;                                       // Eq. 28
+            h.spring = at_limit;
         }
         h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
