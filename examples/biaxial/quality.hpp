@@ -4,7 +4,8 @@
 //
 // Over the motion of the top wall (eps_zz below its final value):
 // - roughness of a column: the rms over the middle 60% of the motion (t from 0.2 to 0.8 of its
-//   duration) of (x - m) / m, m the mean of x over the rows within +-0.005 of strain;
+//   duration) of (x - m) / m, m the mean of x over the rows within +-0.005 of strain (NaN, null
+//   in run.json, where fewer than three rows fall in that window);
 // - the side walls: per lateral axis the mean push of the fixed (lower) and of the
 //   stress-controlled (upper) wall, and the controlled wall's rms deviation from p, over the
 //   whole motion;
@@ -39,6 +40,7 @@ inline double roughness(const std::vector<double>& x, const std::vector<double>&
         std::size_t n = 0;
         for (std::size_t q = 0; q <= motion_end; ++q)
             if (std::abs(strain[q] - strain[r]) <= 0.005) mean += x[q], ++n;
+        if (n < 3) return NAN;  // rows too far apart in strain for a running mean: no figure, rather than a false 0
         mean /= double(n);
         sum += (x[r] - mean) * (x[r] - mean) / (mean * mean);
         ++count;
