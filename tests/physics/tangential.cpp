@@ -305,7 +305,9 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(undamped_sticking_contact_keeps_its_energy, D, Dim
 }
 
 // Direct checks of the law: the force never exceeds the Coulomb limit mu_s f_n; a sliding contact
-// leaves its spring exactly at mu_d f_n / k_t; the spring stays in the tangent plane.
+// leaves its spring exactly at mu_d f_n / k_t; the spring stays in the tangent plane. The contacts
+// stay closed (an overlap of 1 mm against speeds of order 1 m/s and a step of 10 us): the last
+// evaluation before an opening stands for the rest of the contact and is checked below.
 BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {
     constexpr int dim = D::value;
     using V = mm::Vec<dim>;
@@ -325,7 +327,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {
             const double fn = 2.0 * std::abs(N(rng)) - 0.2;  // sometimes tensile
             n = (n + 0.05 * random_vec()).normalized();      // the contact frame turns
             const V v = 0.5 * random_vec();
-            const auto f = law.force<dim, false>(n, v, n.dot(v), fn, 1e-6, 1e-5, h);
+            const auto f = law.force<dim, false>(n, v, n.dot(v), fn, 1e-3, 1e-5, h);
             BOOST_TEST_REQUIRE(f.force.norm() <= 0.6 * std::max(fn, 0.0) * (1 + 1e-12) + 1e-300);
             BOOST_TEST_REQUIRE(std::abs(f.force.dot(n)) <= 1e-12 * (1 + f.force.norm()));
             if (f.sliding) {
@@ -340,6 +342,37 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(spring_respects_coulomb_limit, D, Dims) {
     }
     BOOST_TEST(sliding_seen > 1000);
     BOOST_TEST(static_seen > 1000);
+}
+
+// The last evaluation before a contact opens, s < dt later, stands for the force until the
+// opening: a spring that holds to the end pushes for s + dt/2 (the half step before the
+// evaluation and s after), so the force is (s + dt/2)/dt of the spring's; a contact that slid at
+// the evaluation before too keeps mu_d f_n (velocity Verlet treats it as the normal force's own
+// last sample); a contact that separates slowly enough to stay closed over the step is untouched.
+BOOST_AUTO_TEST_CASE_TEMPLATE(last_evaluation_before_an_opening, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    const double kt = 2e4, dt = 1e-5, fn = 1.0, xi = 1e-6;  // a spring force of 0.02 N
+    const V n = unit<dim>(dim - 1), t = unit<dim>(0);
+    auto last_force = [&](double mu, double overlap, double normal_velocity) {
+        const mm::CundallStrack law(kt, 0.0, mu);
+        mm::TangentialSpring<dim> h;
+        h.spring = h.ahead = xi * t;  // held: no tangential motion in this step
+        h.touching = true;
+        return law.force<dim, false>(n, V(normal_velocity * n), normal_velocity, fn, overlap, dt, h).force;
+    };
+    const double spring_force = kt * xi, v = 0.1;
+    for (double s : {0.1 * dt, 0.5 * dt, 0.9 * dt}) {
+        // mu = 1e4: the Coulomb limit falls from 1e4 N to zero within the last 2e-6 of s.
+        const V f = last_force(1e4, v * s, v);
+        BOOST_TEST(f.dot(t) < 0.0);
+        BOOST_TEST(f.norm() == spring_force * (s + 0.5 * dt) / dt, boost::test_tools::tolerance(1e-5));
+        // mu = 1e-3: the limit, with f_n falling linearly to the opening, was below the spring's
+        // force a step before too (at most 1e-3 (s + dt)/s = 1.1e-2 N).
+        BOOST_TEST(last_force(1e-3, v * s, v).norm() == 1e-3 * fn, boost::test_tools::tolerance(1e-12));
+    }
+    BOOST_TEST(last_force(1e4, 1.5 * v * dt, v).norm() == spring_force, boost::test_tools::tolerance(1e-12));  // opens later
+    BOOST_TEST(last_force(1e4, 0.5 * v * dt, -v).norm() == spring_force, boost::test_tools::tolerance(1e-12));  // approaching
 }
 
 // The 2D law works on components along the tangent line (force_along_line), the 3D law on
@@ -503,27 +536,41 @@ ImpactErrors impact_errors(double b, double mu_value, double steps_per_tc) {
 
 // At the paper's t_c/50 the spin and the tangential velocity after an oblique impact are within
 // 1e-3 of the converged values at every entry phase: sticking, then sliding as the normal force
-// fades (b = 0.8, 1.5 mm, mu = 0.5), sliding, sticking, sliding (b = 1.9 mm), and within 1e-4
-// sliding throughout (mu = 0.05). While the spring carries the contact (mu = 0.5) the error falls
-// at second order: more than 64x from t_c/50 to t_c/800 (measured 120-160; first order gives
-// 16). Sliding throughout, the spring sits at the Coulomb limit at every step and its update
-// hardly matters. A spring advanced by the end-of-step velocity alone, stored at the Coulomb
-// limit after sliding or started half a step in has errors of order dt: 2e-3 to 1e-2 here at
-// t_c/50, 5e-4 to 1e-3 sliding.
+// fades (b = 0.3, 0.8, 1.5 mm, mu = 0.5; near head-on the sliding lasts less than a step),
+// sliding, sticking, sliding (b = 1.9 mm), sticking until the surfaces part with the spring
+// loaded (mu = 5), and within 1e-4 sliding throughout (mu = 0.05). While the spring carries the
+// contact the error falls at second order: more than 64x from t_c/50 to t_c/800 (first order
+// gives 16). Sliding throughout, the spring sits at the Coulomb limit at every step and its
+// update hardly matters. A spring advanced by the end-of-step velocity alone, stored at the
+// Coulomb limit after sliding or started half a step in has errors of order dt: 2e-3 to 1e-2
+// here at t_c/50, 5e-4 to 1e-3 sliding. A spring still loaded when the contact opens needs the
+// last evaluation to stand for the force until the opening (CundallStrack::opening_force);
+// as a plain sample it leaves an error of order dt that depends on where in a step the contact
+// opens.
 BOOST_AUTO_TEST_CASE_TEMPLATE(oblique_impacts_converge_at_second_order, D, Dims) {
     constexpr int dim = D::value;
     struct Case {
         double b, mu;
+        double fine;  // the step t_c/fine of the order check (0: none, see below)
     };
-    for (const Case c : {Case{0.8e-3, 0.5}, Case{1.5e-3, 0.5}, Case{1.9e-3, 0.5}, Case{0.8e-3, 0.05}}) {
-        const ImpactErrors at50 = impact_errors<dim>(c.b, c.mu, 50), at800 = impact_errors<dim>(c.b, c.mu, 800);
+    // Near head-on the sliding before the opening lasts 0.8 steps at t_c/50 and is resolved
+    // between t_c/100 and t_c/400: the error falls at second order over that range (docs/
+    // oblique-impacts.md) but not monotonically, so its order is not checked on two steps here.
+    // With mu = 5 the reference's own error (1e-5) is reached before t_c/800.
+    for (const Case c : {Case{0.3e-3, 0.5, 0}, Case{0.8e-3, 0.5, 800}, Case{1.5e-3, 0.5, 800}, Case{1.9e-3, 0.5, 800},
+                         Case{0.3e-3, 5.0, 200}, Case{0.8e-3, 0.05, 0}}) {
+        const ImpactErrors at50 = impact_errors<dim>(c.b, c.mu, 50);
         BOOST_TEST_MESSAGE(dim << "D b = " << c.b * 1e3 << " mm, mu = " << c.mu << ": worst spin error " << at50.spin
-                               << ", tangential velocity " << at50.across << " at t_c/50; rms spin error " << at50.spin_rms
-                               << " at t_c/50, " << at800.spin_rms << " at t_c/800");
+                               << ", tangential velocity " << at50.across << ", rms spin error " << at50.spin_rms << " at t_c/50");
         const bool sliding_throughout = c.mu < 0.1;
         BOOST_TEST(at50.spin < (sliding_throughout ? 1e-4 : 1e-3));
         BOOST_TEST(at50.across < (sliding_throughout ? 1e-4 : 1e-3));
-        if (!sliding_throughout) BOOST_TEST(at50.spin_rms / at800.spin_rms > 64.0);
+        if (c.fine > 0) {  // second order: the error falls by (fine/50)^2; first order would give fine/50
+            const ImpactErrors fine = impact_errors<dim>(c.b, c.mu, c.fine);
+            const double ratio = at50.spin_rms / fine.spin_rms, first_order = c.fine / 50;
+            BOOST_TEST_MESSAGE("    rms spin error " << fine.spin_rms << " at t_c/" << c.fine << ": " << ratio << "x smaller");
+            BOOST_TEST(ratio > 4.0 * first_order);
+        }
     }
 }
 

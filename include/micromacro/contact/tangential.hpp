@@ -170,6 +170,11 @@ public:
             }
             h.spring = at_limit;
         }
+        if (h.touching && opens_within_step(overlap, normal_velocity, dt)) [[unlikely]] {  // see opening_force
+            const double trial_magnitude = std::sqrt(trial_sq);
+            if (trial_magnitude > 0.0)
+                out.force = trial * (opening_force(trial_magnitude, fn, overlap / normal_velocity, dt) / trial_magnitude);
+        }
         h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
         h.fresh = !h.touching;
@@ -222,12 +227,48 @@ public:
             }
             h.spring = (-force / kt_) * t;                                             // Eq. 28
         }
+        if (h.touching && opens_within_step(overlap, normal_velocity, dt) && trial_magnitude > 0.0) [[unlikely]]
+            out.force = ((trial > 0.0 ? 1.0 : -1.0) * opening_force(trial_magnitude, fn, overlap / normal_velocity, dt)) * t;
         h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
         h.fresh = !h.touching;
         h.touching = true;
         out.sliding = sliding;
         return out;
+    }
+
+    /// The size of the tangential force that stands for a contact's last evaluation before it
+    /// opens, `s` (< dt) from now. The step's force sample stands for half a step on either side,
+    /// but a spring that still holds when the surfaces part drops to zero at the opening: the
+    /// plain sample misses what it pushes after t_n + dt/2 or adds what it does not push after
+    /// the opening, an error of order dt that depends on where in a step the contact opens.
+    /// The model over the sample's half step back to the opening: the trial force held, the
+    /// normal force falling linearly to zero at the opening, and the force capped at the Coulomb
+    /// limit, so that it slides for the last `ramp` before the opening (mu_s f_n, then mu_d f_n).
+    /// - If the contact slid at the evaluation before too, the force has followed mu_d f_n, and
+    ///   velocity Verlet integrates it as it integrates the normal force's last samples: the
+    ///   plain sample stands (changing it moves a contact that slides throughout off mu_d times
+    ///   its normal impulse).
+    /// - If the spring held until after the evaluation before's half-step point, the sample is
+    ///   the mean of the model over its half step back to the opening.
+    /// - In between, the two are blended linearly.
+    /// docs/oblique-impacts.md measures what it buys: second order where the spring is loaded
+    /// when the contact opens (mu = 5: the worst spin error at t_c/50 falls from 6e-3 to 5e-4).
+    MICROMACRO_INLINE double opening_force(double trial_magnitude, double fn, double s, double dt) const {
+        const double limit_rate = mu_s_ * fn / s;  // the static limit's rise per unit time back from the opening
+        if (trial_magnitude >= limit_rate * (s + dt)) return mu_d_ * fn;  // slid at the evaluation before too
+        const double ramp = trial_magnitude / limit_rate, span = s + 0.5 * dt, sliding_rate = mu_d_ * fn / s;
+        const double mean = (ramp >= span ? 0.5 * sliding_rate * span * span
+                                          : trial_magnitude * (span - ramp) + 0.5 * sliding_rate * ramp * ramp) / dt;
+        const double weight = std::min(1.0, (s + dt - ramp) / (0.5 * dt));
+        return weight * mean + (1.0 - weight) * mu_d_ * fn;
+    }
+
+    /// Whether a contact that touched at the last evaluation opens before the next one: it
+    /// separates, and faster than it can within a step. (A zero overlap, from round-off at the
+    /// touching distance, has nothing left to open.)
+    static bool opens_within_step(double overlap, double normal_velocity, double dt) {
+        return normal_velocity > 0.0 && overlap > 0.0 && overlap < normal_velocity * dt;
     }
 
     /// The time a contact first seen with this overlap has been touching: overlap / approach
