@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's performance table from tests/benchmarks/throughput. The host is shared
+# Regenerates docs/performance.md's table from tests/benchmarks/throughput. The host is shared
 # and its speed drifts by tens of percent within minutes, so the cases are run round-robin, RUNS
 # rounds (default 9) of every case in turn, and each case's median is printed: a slow spell then
 # falls on all cases alike instead of on the few that happened to run in it. A two-thread case's

@@ -3,7 +3,7 @@
 # side by side: the other commit is built in a temporary git worktree, the two binaries alternate
 # REPS times (which one goes first alternates too; the machines are shared and noisy, so only
 # runs taken together compare), and the medians, their ratio and the median of the ratios of
-# each back-to-back pair are printed. How the README's and the notes' "side by side" figures
+# each back-to-back pair are printed. How the "side by side" figures of docs/performance.md
 # were taken.
 #   scripts/side_by_side.sh COMMIT "--dim 3 --particles 100000 --steps 60" [REPS=5]
 #   PROGRAM=biaxial scripts/side_by_side.sh COMMIT "--preset paper --vtk-every 0" 2

@@ -248,7 +248,7 @@ int main(int argc, char** argv) {
     app.add_option("--threads", o.threads, "threads (OpenMP)")->capture_default_str();
     app.add_flag("--shuffle", o.shuffle, "number the particles in random order first");
     app.add_flag("--sort", o.sort, "renumber the particles in row order (sort_spatially) before timing; "
-                                   "a file's own order may be slow (see the README)");
+                                   "a file's own order may be slow (see docs/performance.md)");
     app.add_flag("!--no-energy", o.track_energy, "switch the energy books off (on by default, as in the examples)");
     app.add_option("--precision", o.precision, "storage precision of the particle state: double or float")
         ->check(CLI::IsMember({"double", "float"}))
