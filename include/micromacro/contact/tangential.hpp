@@ -38,6 +38,7 @@ template <int dim>
 struct TangentialSpring {
     Vec<dim> spring = Vec<dim>::Zero();  ///< xi of Eq. 23-28 at the last evaluation, t_n
     Vec<dim> ahead = Vec<dim>::Zero();   ///< xi_n + dt v_{n-1/2} / 3, where the next step starts from
+    float trial = 0;                     ///< |trial force| of a sliding last evaluation (for opening_correction)
     bool sliding = false;                ///< Coulomb state, for the static/dynamic hysteresis
     bool touching = false;               ///< evaluated in contact before; false on a new contact
     bool fresh = false;                  ///< the last evaluation was the contact's first
@@ -49,7 +50,7 @@ struct TangentialSpring {
 inline NoHistory seen_from_partner(NoHistory h) { return h; }
 template <int dim>
 TangentialSpring<dim> seen_from_partner(const TangentialSpring<dim>& h) {
-    return {Vec<dim>(-h.spring), Vec<dim>(-h.ahead), h.sliding, h.touching, h.fresh};
+    return {Vec<dim>(-h.spring), Vec<dim>(-h.ahead), h.trial, h.sliding, h.touching, h.fresh};
 }
 
 class CundallStrack {
@@ -118,42 +119,16 @@ public:
     /// order dt in every spring that follows from it. A contact first seen while not approaching
     /// was placed so and starts unloaded.
     ///
-    /// The last evaluation before a contact opens stands for the force until the opening
-    /// (opening_force); it is rare and evaluated out of the pair loop's way.
+    /// A contact that opened within the last step gets the rest of its last evaluation's impulse
+    /// from the engine (opening_correction).
     ///
     /// tests/physics/tangential.cpp checks the order on oblique impacts, the energy of an
     /// undamped sticking contact, the Coulomb limit and the hysteresis.
     template <int dim, bool track_energy>
     MICROMACRO_INLINE TangentialForce<dim> force(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_velocity,
                                                  double normal_force, double overlap, double dt, History<dim>& h) const {
-        if (overlap < normal_velocity * dt) [[unlikely]]  // separating faster than the overlap allows for a step
-            return last_force_before_opening<dim, track_energy>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
-        return evaluate<dim, track_energy, false>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
-    }
-
-private:
-    // A call, not inlined, so that the pair loop's common path keeps its registers (inlined, the
-    // sheared 3D benchmark lost about twice as much; one evaluation in 3000 comes here). The
-    // test above is one comparison: it implies separating, and a separate sign test would be a
-    // badly predicted jump in a sheared packing, where half the contacts separate (it cost a
-    // quarter of the 2D benchmark).
-    template <int dim, bool track_energy>
-    MICROMACRO_COLD TangentialForce<dim> last_force_before_opening(const Vec<dim>& n, const Vec<dim>& relative_velocity,
-                                                                   double normal_velocity, double normal_force, double overlap,
-                                                                   double dt, History<dim>& h) const {
-        // A zero overlap (round-off at the touching distance) has nothing left to open; a new
-        // contact has no spring to carry over.
-        if (h.touching && overlap > 0.0)
-            return evaluate<dim, track_energy, true>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
-        return evaluate<dim, track_energy, false>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
-    }
-
-    // Eq. 23-29; `opening`: the contact opens before the next evaluation.
-    template <int dim, bool track_energy, bool opening>
-    MICROMACRO_INLINE TangentialForce<dim> evaluate(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_velocity,
-                                                    double normal_force, double overlap, double dt, History<dim>& h) const {
         if constexpr (dim == 2)
-            return force_along_line<track_energy, opening>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
+            return force_along_line<track_energy>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
         using V = Vec<dim>;
         TangentialForce<dim> out;
         const V vt = relative_velocity - n * normal_velocity;                    // Eq. 24
@@ -198,11 +173,7 @@ private:
                                          (elastic_energy<dim>(at_limit) - elastic_energy<dim>(h.spring));
             }
             h.spring = at_limit;
-        }
-        if constexpr (opening) {
-            const double trial_magnitude = std::sqrt(trial_sq);
-            if (trial_magnitude > 0.0)
-                out.force = trial * (opening_force(trial_magnitude, fn, overlap / normal_velocity, dt) / trial_magnitude);
+            h.trial = static_cast<float>(trial_magnitude);
         }
         h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
@@ -216,7 +187,7 @@ private:
     /// become the components along t, scalars, and the pair loop saves about a third of its
     /// arithmetic. The same physics as the vector form above to round-off (tests/physics/
     /// tangential.cpp compares the two on a 2D contact embedded in 3D).
-    template <bool track_energy, bool opening>
+    template <bool track_energy>
     MICROMACRO_INLINE TangentialForce<2> force_along_line(const Vec<2>& n, const Vec<2>& relative_velocity, double normal_velocity,
                                                           double normal_force, double overlap, double dt, History<2>& h) const {
         TangentialForce<2> out;
@@ -255,9 +226,8 @@ private:
                                          (0.5 * force * force / kt_ - elastic_energy<2>(h.spring));
             }
             h.spring = (-force / kt_) * t;                                             // Eq. 28
+            h.trial = static_cast<float>(trial_magnitude);
         }
-        if (opening && trial_magnitude > 0.0)
-            out.force = ((trial > 0.0 ? 1.0 : -1.0) * opening_force(trial_magnitude, fn, overlap / normal_velocity, dt)) * t;
         h.ahead = h.spring + (1.0 / 3.0) * motion;
         h.sliding = sliding;
         h.fresh = !h.touching;
@@ -266,23 +236,41 @@ private:
         return out;
     }
 
-    /// The size of the tangential force that stands for a contact's last evaluation before it
-    /// opens, `s` (< dt) from now. The step's force sample stands for half a step on either side,
-    /// but a spring that still holds when the surfaces part drops to zero at the opening: the
-    /// plain sample misses what it pushes after t_n + dt/2 or adds what it does not push after
-    /// the opening, an error of order dt that depends on where in a step the contact opens.
+    /// The force to add, at the evaluation that finds a contact open, so that the contact's last
+    /// evaluation (h, t_n) gets the impulse of the force until the opening, `s` (<= dt) after
+    /// t_n; `normal_force` is f_n at t_n (the engine's estimate from the overlap and separation
+    /// speed of now). A sample stands for half a step on either side of it, but a spring that
+    /// still holds when the surfaces part drops to zero at the opening: as a plain sample it
+    /// misses what the spring pushed after t_n + dt/2 or adds what it did not push after the
+    /// opening, an error of order dt that depends on where in a step the contact opens. Applied
+    /// a step late, the impulse is the same and the trajectory differs at O(dt^2).
+    ///
     /// The model over the sample's half step back to the opening: the trial force held, the
     /// normal force falling linearly to zero at the opening, and the force capped at the Coulomb
     /// limit, so that it slides for the last `ramp` before the opening (mu_s f_n, then mu_d f_n).
     /// - If the contact slid at the evaluation before too, the force has followed mu_d f_n, and
     ///   velocity Verlet integrates it as it integrates the normal force's last samples: the
-    ///   plain sample stands (changing it moves a contact that slides throughout off mu_d times
-    ///   its normal impulse).
-    /// - If the spring held until after the evaluation before's half-step point, the sample is
-    ///   the mean of the model over its half step back to the opening.
+    ///   sample stands, no correction (changing it moves a contact that slides throughout off
+    ///   mu_d times its normal impulse).
+    /// - If the spring held until after the evaluation before's half-step point, the sample
+    ///   becomes the mean of the model over its half step back to the opening.
     /// - In between, the two are blended linearly.
     /// docs/oblique-impacts.md measures what it buys: where the spring is loaded when the contact
     /// opens (mu = 5) the error falls at second order, 4.6e-4 at t_c/50 over every entry phase.
+    template <int dim>
+    Vec<dim> opening_correction(const Vec<dim>& n, const History<dim>& h, double normal_force, double s, double dt) const {
+        const Vec<dim> last = -kt_ * in_tangent_plane(n, h.spring);  // the last evaluation's force, less its dashpot
+        const double applied = last.norm();
+        if (!(applied > 0.0 && s > 0.0)) return Vec<dim>::Zero();
+        // A sliding contact's force was mu_d f_n exactly, and its trial force was kept.
+        const bool sliding = h.sliding && mu_d_ > 0.0;
+        const double fn = sliding ? applied / mu_d_ : std::max(normal_force, 0.0);
+        const double trial = sliding ? double(h.trial) : applied;
+        return last * ((opening_force(trial, fn, std::min(s, dt), dt) - applied) / applied);
+    }
+
+private:
+    // The size of the force of the model above, averaged over the last evaluation's share.
     double opening_force(double trial_magnitude, double fn, double s, double dt) const {
         const double limit_rate = mu_s_ * fn / s;  // the static limit's rise per unit time back from the opening
         if (trial_magnitude >= limit_rate * (s + dt)) return mu_d_ * fn;  // slid at the evaluation before too

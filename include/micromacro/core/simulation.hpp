@@ -683,7 +683,12 @@ private:
                 open += !touches;
             }
             if constexpr (has_tangential)
-                for (std::size_t k = 0; k < open; ++k) history[b0 + opened[k]] = History{};  // the contact opened
+                for (std::size_t k = 0; k < open; ++k) {  // the contact opened, if it was one
+                    History& h = history[b0 + opened[k]];
+                    if (h.touching) [[unlikely]]
+                        opened_pair<periodic>(pair[b0 + opened[k]], h, f, torque, owned_end, spill);
+                    h = History{};
+                }
             {  // square roots and reciprocals two or four at a time (Eigen's packets)
                 using Column = Eigen::Array<double, Eigen::Dynamic, 1>;
                 Eigen::Map<Column> dist(distance.data(), count), inverse(inverse_distance.data(), count);
@@ -724,6 +729,54 @@ private:
             }
         }
         books = account;
+    }
+
+    // The rest of the last evaluation's tangential impulse for a pair found open whose history
+    // says it touched then (see opening_correction), added to both particles like a contact's
+    // force. Out of the pair loop's way: one pair in thousands per step comes here.
+    template <bool periodic>
+    MICROMACRO_COLD void opened_pair(IndexPair p, const History& h, SV* f, [[maybe_unused]] SA* torque, Index owned_end,
+                                     std::vector<Spill>& spill) const {
+        const auto [i, j] = p;
+        const auto& x = particles_.position();
+        const auto& v = particles_.velocity();
+        const auto& r = particles_.radius();
+        const V d = domain_.template separation_for<periodic>(convert<double>(x[i]), convert<double>(x[j]));
+        const double dist = d.norm();
+        if (!(dist > 0.0)) return;
+        const V n = d / dist;
+        const V force = opening_correction(h, n, double(r[i]) + double(r[j]) - dist, n.dot(convert<double>(v[i]) - convert<double>(v[j])));
+        const SV stored = convert<Real>(force);
+        f[i] += stored;
+        [[maybe_unused]] A arm{};
+        if constexpr (rotation) {
+            arm = T::cross(n, force);
+            torque[i] -= convert<Real>(A(double(r[i]) * arm));
+        }
+        if (j < owned_end) {
+            f[j] -= stored;
+            if constexpr (rotation) torque[j] -= convert<Real>(A(double(r[j]) * arm));
+        } else {
+            Spill& s = spill.emplace_back();
+            s.particle = j;
+            s.force = stored;
+            if constexpr (rotation) s.torque = convert<Real>(A(double(r[j]) * arm));
+        }
+    }
+
+    // The tangential force that completes a just-opened contact's last evaluation, from the
+    // overlap and separation speed of now: the overlap then was overlap + speed dt, the normal
+    // force then the law's at that overlap, and the contact opened overlap-then / speed after it.
+    V opening_correction(const History& h, const V& n, double overlap_now, double normal_velocity) const {
+        if constexpr (requires { law_.tangential.opening_correction(n, h, 0.0, 0.0, 0.0); }) {
+            if (!(normal_velocity > 0.0)) return V::Zero();
+            const double overlap_then = overlap_now + normal_velocity * dt_;
+            if (!(overlap_then > 0.0)) return V::Zero();
+            const double fn = law_.normal.force(overlap_then, normal_velocity).total();
+            return law_.tangential.opening_correction(n, h, fn, overlap_then / normal_velocity, dt_);
+        } else {
+            return V::Zero();
+        }
     }
 
     // All pair forces, on threads_ threads. The candidates are sorted by their first particle i;
@@ -801,7 +854,17 @@ private:
                 auto& wall = walls_[w];
                 const double s = wall.distance(convert<double>(x[i])), a = r[i];
                 if (s >= a) {
-                    if constexpr (has_tangential) wall_contacts_.history(c) = History{};
+                    if constexpr (has_tangential) {
+                        History& h = wall_contacts_.history(c);
+                        if (h.touching) [[unlikely]] {  // opened in the last step: see opening_correction
+                            const V force = opening_correction(h, wall.normal, a - s, wall.normal.dot(wall_relative_velocity(i, wall)));
+                            f[i] += convert<Real>(force);
+                            wall.force -= force;
+                            if constexpr (rotation)
+                                particles_.template get<field::Torque>()[i] -= convert<Real>(A(a * T::cross(wall.normal, force)));
+                        }
+                        h = History{};
+                    }
                     continue;
                 }
                 const V& n = wall.normal;
