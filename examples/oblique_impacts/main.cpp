@@ -61,6 +61,11 @@ public:
         out.sliding = sliding;
         return out;
     }
+    /// Nothing added when a contact is found open: the plain last sample stands.
+    template <int dim>
+    mm::Vec<dim> opening_correction(const mm::Vec<dim>&, const History<dim>&, double, double, double) const {
+        return mm::Vec<dim>::Zero();
+    }
 };
 
 constexpr double a = 1e-3, rho = 2000.0, k = 1e5, kt = 2e4, speed = 0.5;
