@@ -49,6 +49,7 @@ struct Config {
     double prepare_kinetic_ratio = 1e-6;
     double output_interval = 1e-3; // s between rows of the time series
     double box_factor = 2.0;       // initial box side over the expected final side
+    double inner_margin = 0.1;     // averaging box: this fraction of each side left out next to each wall (the paper's 10%)
     bool wall_friction = false;    // walls use the particles' friction (default: smooth walls, principal axes)
     double mu_prepare = 0.1;       // friction while preparing: low gives the paper's volume fraction 0.82-0.84
     double max_prepare_time = 0.0; // s; 0 = 50 x the time a wall needs to cross the box at prepare_speed
@@ -119,6 +120,9 @@ inline void validate(const Config& c) {
     mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
     mm::detail::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
     mm::detail::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");
+    if (!(c.inner_margin >= 0.0 && c.inner_margin < 0.5))
+        throw_input_error("--inner-margin ", c.inner_margin, " is outside [0, 0.5); it is the fraction of each side left out "
+                          "next to each wall (the paper's 0.1)");
     mm::detail::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
     if (!(c.radius_min > 0.0 && c.radius_max >= c.radius_min))
         throw_input_error("radii [", c.radius_min, ", ", c.radius_max, "] are invalid; need 0 < min <= max");
@@ -287,7 +291,7 @@ public:
     Row row() const {
         Row r;
         const auto s = mm::take_snapshot(sim_);
-        const auto region = mm::Region<dim>::inner(s, 0.1);  // the paper's averaging box
+        const auto region = mm::Region<dim>::inner(s, c_.inner_margin);  // the paper's averaging box: 10%
         const auto m = mm::average(s, region);
         const auto wall = mm::wall_stress(s);
         const auto e = sim_.energy();

@@ -92,6 +92,7 @@ nlohmann::ordered_json parameters(const Config& c) {
             {"prepare_kinetic_ratio", c.prepare_kinetic_ratio},
             {"output_interval_s", c.output_interval},
             {"box_factor", c.box_factor},
+            {"inner_margin", c.inner_margin},
             {"wall_friction", c.wall_friction}};
 }
 
@@ -123,6 +124,7 @@ Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     c.wall_damping = p.at("wall_damping_kg_s");
     c.wall_follow_time = p.at("wall_follow_time_s");
     c.prepare_speed = p.at("prepare_speed_m_s");
+    c.inner_margin = p.value("inner_margin", 0.1);
     c.prepare_kinetic_ratio = p.at("prepare_kinetic_ratio");
     c.output_interval = p.at("output_interval_s");
     c.box_factor = p.at("box_factor");
@@ -421,6 +423,7 @@ int main(int argc, char** argv) {
     auto* gwt = app.add_option("--wall-follow-time", "the side wall's damper follows its velocity with this time constant in s "
                                                      "(0: Eq. 18, anchored; see walls.hpp)");
     auto* interval = app.add_option("--output-interval", "time between rows of timeseries.csv in s");
+    auto* margin = app.add_option("--inner-margin", "averaging box: fraction of each side left out next to each wall (default 0.1, the paper's)");
     bool no_pictures = false;
     app.add_flag("--no-pictures", no_pictures, "skip the snapshots and plots at the end");
     app.add_flag("--wall-friction", c.wall_friction, "walls use the particles' friction (default: smooth walls)");
@@ -465,6 +468,7 @@ int main(int argc, char** argv) {
         set(gw, c.wall_damping);
         set(gwt, c.wall_follow_time);
         set(interval, c.output_interval);
+        set(margin, c.inner_margin);
         if (!plan.from_prepared.empty() && !particles->count())  // the prepared state decides
             c.particles = nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared, "prepared"))
                               .at("parameters").at("particles").get<std::size_t>();

@@ -63,6 +63,22 @@ int main(int argc, char** argv) {
     std::printf("| maximum deviatoric fabric | %.3f at eps_zz = %.3f (tr F there %.3f) |\n", col.at("deviatoric_fabric")[fabric_peak],
                 ezz[fabric_peak], col.at("trF")[fabric_peak]);
     std::printf("| C_n_zzzz / C_n_1111 at the stress peak | %.3f |\n", C_ratio(peak));
+    // Sec. 4.4's small entries: the fabric's tilt from the box axes and the odd stiffness entries
+    // (2D), medians over the motion past eps_zz = 0.01.
+    if (dim == 2) {
+        std::vector<double> tilt, odd_1112, odd_1222;
+        for (std::size_t r = 0; r <= motion_end; ++r) {
+            if (ezz[r] < 0.01) continue;
+            const double phi = std::fmod(std::abs(col.at("phi_F")[r]), M_PI / 2);  // a box axis every 90 degrees
+            tilt.push_back(std::min(phi, M_PI / 2 - phi) * 180 / M_PI);
+            odd_1112.push_back(std::abs(col.at("C_n_1112")[r]) / col.at("C_n_1111")[r]);
+            odd_1222.push_back(std::abs(col.at("C_n_1222")[r]) / col.at("C_n_1111")[r]);
+        }
+        if (!tilt.empty())
+            std::printf("| past eps_zz = 0.01, medians: fabric tilt from the box axes; abs(C_n_1112), abs(C_n_1222) over C_n_1111 | "
+                        "%.1f degrees; %.4f, %.4f |\n",
+                        biaxial::quantile(tilt, 0.5), biaxial::quantile(odd_1112, 0.5), biaxial::quantile(odd_1222, 0.5));
+    }
     std::printf("| g2 (start, peak) | %.3f, %.3f |\n", col.at("g2")[0], col.at("g2")[peak]);
     std::printf("| volumetric strain (max compaction, end of motion) | %.4f, %.4f |\n",
                 *std::max_element(col.at("volumetric_strain").begin(), col.at("volumetric_strain").begin() + motion_end + 1),

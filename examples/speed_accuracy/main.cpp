@@ -1,7 +1,7 @@
 // speed_accuracy: what each speed setting costs and what it buys, measured, written as
 // docs/speed-accuracy.md and docs/speed-accuracy.svg.
 //
-//   speed_accuracy --seeds 4 --out-dir docs   (about 25 minutes on one core)
+//   speed_accuracy --seeds 12 --jobs 2 --out-dir docs   (about 20 minutes on two cores)
 //   speed_accuracy --tiny --out-dir /tmp/x (seconds: CI runs this so the program cannot rot)
 //
 // Two sweeps. The two-particle collision against Eq. 22 (exact): time step t_c/10 ... t_c/200
@@ -17,12 +17,14 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <future>
 #include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include <CLI/CLI.hpp>
+#include <boost/math/distributions/students_t.hpp>
 
 #include "../biaxial/biaxial.hpp"
 #include "../command_line.hpp"
@@ -143,31 +145,71 @@ Outcome run_biaxial(const biaxial::Config& c) {
     return o;
 }
 
-// The mean over `seeds` packings (seeds first_seed, first_seed + 1, ...): one packing of a few
-// hundred particles is chaotic enough that a change of dt by 1e-6 moves its peak by 10-20%, so
-// only ensemble means can show what a setting does. A setting the engine or the preparation
-// refuses is a result too: its row says why. The relaxed state is the first packing's.
-Outcome run_variant(const Variant& v, int seeds, unsigned long long first_seed) {
-    Outcome mean;
-    for (int k = 0; k < seeds; ++k) {
-        biaxial::Config c = v.config;
-        c.seed = first_seed + static_cast<unsigned long long>(k);
-        Outcome o;
-        try {
-            o = v.single_precision   ? run_biaxial<mm::VelocityVerlet, float>(c)
-                : v.symplectic_euler ? run_biaxial<mm::SymplecticEuler>(c)
-                                     : run_biaxial<mm::VelocityVerlet>(c);
-        } catch (const std::exception& e) {
-            mean.failure = "seed " + std::to_string(c.seed) + ": " + e.what();
-            return mean;
-        }
-        if (k == 0) mean.relaxed = o.relaxed, mean.box_stress = o.box_stress;
-        const double w = 1.0 / seeds;
-        mean.seconds += w * o.seconds, mean.particle_steps += w * o.particle_steps, mean.steps += w * o.steps;
-        mean.peak_ratio += w * o.peak_ratio, mean.strain_at_peak += w * o.strain_at_peak, mean.max_fabric += w * o.max_fabric;
-        mean.Cn_at_peak += w * o.Cn_at_peak, mean.wall_gap += w * o.wall_gap, mean.residual += w * o.residual;
+// One run per packing (seeds first_seed, first_seed + 1, ...): a packing of a few hundred
+// particles is chaotic enough that a change of dt by 1e-6 moves its peak by 10-20%, so only
+// ensemble statistics can show what a setting does. `jobs` packings run at a time. A setting the
+// engine or the preparation refuses is a result too: its failure says why.
+struct VariantResult {
+    std::string failure;
+    std::vector<Outcome> runs;
+    double mean(double Outcome::*field) const {
+        double sum = 0;
+        for (const auto& o : runs) sum += o.*field;
+        return runs.empty() ? NAN : sum / static_cast<double>(runs.size());
     }
-    return mean;
+};
+
+Outcome run_one(const Variant& v, unsigned long long seed) {
+    biaxial::Config c = v.config;
+    c.seed = seed;
+    try {
+        return v.single_precision   ? run_biaxial<mm::VelocityVerlet, float>(c)
+               : v.symplectic_euler ? run_biaxial<mm::SymplecticEuler>(c)
+                                    : run_biaxial<mm::VelocityVerlet>(c);
+    } catch (const std::exception& e) {
+        Outcome o;
+        o.failure = "seed " + std::to_string(seed) + ": " + e.what();
+        return o;
+    }
+}
+
+VariantResult run_variant(const Variant& v, int seeds, int jobs) {
+    VariantResult result;
+    for (int k0 = 0; k0 < seeds; k0 += jobs) {
+        std::vector<std::future<Outcome>> batch;
+        for (int k = k0; k < std::min(seeds, k0 + jobs); ++k)
+            batch.push_back(std::async(std::launch::async, run_one, std::cref(v), v.first_seed + static_cast<unsigned long long>(k)));
+        for (auto& f : batch) {
+            Outcome o = f.get();
+            if (!o.failure.empty() && result.failure.empty()) result.failure = o.failure;
+            result.runs.push_back(std::move(o));
+        }
+        if (!result.failure.empty()) break;
+    }
+    return result;
+}
+
+// The difference of a setting's mean from the reference's with its 95% confidence interval
+// (Welch: the packings of two settings are independent samples, the variances unequal), both
+// relative to the reference's mean.
+struct Difference {
+    double relative = NAN, half_width = NAN;
+    bool distinguishable() const { return std::abs(relative) > half_width; }
+};
+
+Difference difference(const VariantResult& a, const VariantResult& ref, double Outcome::*field) {
+    const double na = static_cast<double>(a.runs.size()), nr = static_cast<double>(ref.runs.size());
+    if (na < 2 || nr < 2) return {};
+    auto variance = [&](const VariantResult& r, double mean) {
+        double sum = 0;
+        for (const auto& o : r.runs) sum += (o.*field - mean) * (o.*field - mean);
+        return sum / static_cast<double>(r.runs.size() - 1);
+    };
+    const double ma = a.mean(field), mr = ref.mean(field);
+    const double va = variance(a, ma) / na, vr = variance(ref, mr) / nr;
+    const double freedom = (va + vr) * (va + vr) / (va * va / (na - 1) + vr * vr / (nr - 1));
+    const double t = boost::math::quantile(boost::math::students_t(freedom), 0.975);
+    return {(ma - mr) / std::abs(mr), t * std::sqrt(va + vr) / std::abs(mr)};
 }
 
 // ---- the kernel width ------------------------------------------------------------------------
@@ -276,12 +318,15 @@ int main(int argc, char** argv) {
     std::string out_dir = "docs";
     bool tiny = false;
     std::size_t particles = 300;
-    int seeds = 1;
+    int seeds = 1, jobs = 1;
     app.add_option("--out-dir", out_dir, "where speed-accuracy.md and speed-accuracy.svg go")->capture_default_str();
     app.add_option("--particles", particles, "particles of the biaxial runs (the quick preset's 300)")->capture_default_str();
     app.add_option("--seeds", seeds, "packings per biaxial row; the row shows their mean (the docs use 4)")
         ->capture_default_str()
         ->check(CLI::Range(1, 100));
+    app.add_option("--jobs", jobs, "packings run at a time (each on one thread); the seconds are each run's own")
+        ->capture_default_str()
+        ->check(CLI::Range(1, 64));
     app.add_flag("--tiny", tiny, "a few seconds: 40 particles, short loading, fewer rows (for CI; the numbers mean little)");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
@@ -338,7 +383,7 @@ int main(int argc, char** argv) {
         variants.push_back({"precision", "float storage, t_c(mean)/50", base, false, 1, true});
         if (!tiny)
             variants.push_back({"precision", "float storage, t_c(mean)/200", with([&](auto& c) { c.dt_fraction = 200; }), false, 1, true});
-        for (double factor : {0.5, 2.0, 4.0})
+        for (double factor : {0.5, 2.0, 4.0, 8.0})
             if (!(tiny && factor > 2))
                 variants.push_back({"loading period", format("T = %g s", factor * base.period),
                                     with([&](auto& c) { c.period = factor * base.period; })});
@@ -355,17 +400,17 @@ int main(int argc, char** argv) {
         variants.push_back({"floor", "default, dt x (1 + 1e-6)", with([&](auto& c) { c.dt_fraction = 50 / (1 + 1e-6); })});
         variants.push_back({"floor", "default, other packings", base, false, static_cast<unsigned long long>(seeds) + 1});
 
-        std::vector<Outcome> outcomes;
+        std::vector<VariantResult> results;
         for (const auto& v : variants) {
-            outcomes.push_back(run_variant(v, seeds, v.first_seed));
-            say(v.group + ": " + v.label + format(" (%.1f s)", outcomes.back().seconds) + outcomes.back().failure);
+            results.push_back(run_variant(v, seeds, jobs));
+            say(v.group + ": " + v.label + format(" (%.1f s per run)", results.back().mean(&Outcome::seconds)) + results.back().failure);
         }
-        const Outcome& ref = outcomes.front();
+        const VariantResult& ref = results.front();
         if (!ref.failure.empty()) mm::detail::throw_input_error("the reference run failed: ", ref.failure);
 
         std::vector<KernelRow> kernels;
         for (double w : {0.25, 0.5, 1.0, 2.0})
-            kernels.push_back(kernel_row(ref.relaxed, ref.box_stress, w));
+            kernels.push_back(kernel_row(ref.runs.front().relaxed, ref.runs.front().box_stress, w));
         say("kernels done");
 
         // ---- the Markdown ------------------------------------------------------------------
@@ -398,34 +443,85 @@ int main(int argc, char** argv) {
            << "(`build/examples/oblique_impacts --out docs/oblique-impacts.md`).\n";
 
         md << "\n## Biaxial quick preset against a converged reference\n\n"
-           << "Each row is the mean over " << seeds << " packing" << (seeds > 1 ? "s" : "") << " (seeds 1.." << seeds
+           << "Each row is " << seeds << " packing" << (seeds > 1 ? "s" : "") << " (seeds 1.." << seeds
            << "; the floor's other packings: seeds " << seeds + 1 << ".." << 2 * seeds << "), each a complete run (random "
            << "placement, preparation, loading to eps_zz = "
            << base.final_strain << " and relaxation) with one setting changed from the default. Reference: "
            << variants.front().label << ", velocity Verlet, double. Peak quantities come from rows smoothed over five "
-           << "output intervals, during the motion; in brackets the relative error against the reference (the strain at the "
-           << "peak: absolute difference). Wall gap: mean over the motion of |sigma_wall_22 / sigma_22 - 1| (wall stress "
+           << "output intervals, during the motion. Each cell is the mean over the packings and, in brackets, its "
+           << "difference from the reference's mean with the 95% confidence interval of that difference (Welch's t, "
+           << "relative to the reference's mean; for the strain at the peak, absolute); **bold** where the interval "
+           << "excludes zero, i.e. the setting is distinguishable from the reference. Wall gap: mean over the motion of "
+           << "|sigma_wall_22 / sigma_22 - 1| (wall stress "
            << "against the inner box's contact stress). Residual: the energy books' residual at the end (relative to the "
-           << "work put in). Float: the particle state stored in float, every force computed in double "
+           << "work put in). Seconds: one run's wall time (" << jobs << " run" << (jobs > 1 ? "s" : "")
+           << " at a time). Float: the particle state stored in float, every force computed in double "
            << "(`BasicSimulation<dim, float, ...>`); positions of a 3.5 cm box then resolve 2e-9 m against overlaps of ~4e-7 m.\n\n"
            << "| group | setting | seconds | particle-steps | peak stress ratio | eps_zz at peak | max deviatoric fabric | "
               "C_n_2222 at peak (N/m) | wall gap | residual |\n"
            << "|---|---|---|---|---|---|---|---|---|---|\n";
+        // The three peak quantities a setting is judged by.
+        const std::vector<std::pair<const char*, double Outcome::*>> judged{
+            {"peak stress ratio", &Outcome::peak_ratio}, {"deviatoric fabric", &Outcome::max_fabric}, {"C_n_2222", &Outcome::Cn_at_peak}};
         for (std::size_t i = 0; i < variants.size(); ++i) {
-            const auto& o = outcomes[i];
+            const auto& r = results[i];
             const bool is_ref = i == 0;
-            if (!o.failure.empty()) {
-                md << "| " << variants[i].group << " | " << variants[i].label << " | stopped: " << o.failure << " |||||||\n";
+            if (!r.failure.empty()) {
+                md << "| " << variants[i].group << " | " << variants[i].label << " | stopped: " << r.failure << " |||||||\n";
                 continue;
             }
-            auto cell = [&](double x, double r, const char* fmt) {
-                return format(fmt, x) + (is_ref ? "" : " (" + percent(rel(x, r)) + ")");
+            auto cell = [&](double Outcome::*field, const char* fmt) {
+                std::string text = format(fmt, r.mean(field));
+                if (is_ref) return text;
+                const Difference d = difference(r, ref, field);
+                const std::string diff = format("%+.1f%%", 100 * d.relative) + format(" +- %.1f%%", 100 * d.half_width);
+                return text + " (" + (d.distinguishable() ? "**" + diff + "**" : diff) + ")";
             };
-            md << "| " << variants[i].group << " | " << variants[i].label << " | " << format("%.1f", o.seconds) << " | "
-               << format("%.3g", o.particle_steps) << " | " << cell(o.peak_ratio, ref.peak_ratio, "%.4f") << " | "
-               << format("%.4f", o.strain_at_peak) << (is_ref ? "" : format(" (%+.4f)", o.strain_at_peak - ref.strain_at_peak))
-               << " | " << cell(o.max_fabric, ref.max_fabric, "%.4f") << " | " << cell(o.Cn_at_peak, ref.Cn_at_peak, "%.4g") << " | "
-               << percent(o.wall_gap) << " | " << format("%.2e", o.residual) << " |\n";
+            std::string at_peak = format("%.4f", r.mean(&Outcome::strain_at_peak));
+            if (!is_ref) {
+                const Difference d = difference(r, ref, &Outcome::strain_at_peak);
+                const double scale = std::abs(ref.mean(&Outcome::strain_at_peak));  // back to absolute strain
+                const std::string diff = format("%+.4f", d.relative * scale) + format(" +- %.4f", d.half_width * scale);
+                at_peak += " (" + (d.distinguishable() ? "**" + diff + "**" : diff) + ")";
+            }
+            md << "| " << variants[i].group << " | " << variants[i].label << " | " << format("%.1f", r.mean(&Outcome::seconds)) << " | "
+               << format("%.3g", r.mean(&Outcome::particle_steps)) << " | " << cell(&Outcome::peak_ratio, "%.4f") << " | " << at_peak
+               << " | " << cell(&Outcome::max_fabric, "%.4f") << " | " << cell(&Outcome::Cn_at_peak, "%.4g") << " | "
+               << percent(r.mean(&Outcome::wall_gap)) << " | " << format("%.2e", r.mean(&Outcome::residual)) << " |\n";
+        }
+        // A sentence per group: which settings the packings tell apart from the reference.
+        md << "\nAt " << seeds << " packings per setting, by group (distinguishable: the 95% interval of the difference of "
+           << "the means excludes zero for the peak stress ratio, the deviatoric fabric or C_n_2222):\n\n";
+        for (std::size_t i = 1; i < variants.size();) {
+            const std::string group = variants[i].group;
+            std::vector<std::string> apart, within, stopped;
+            for (; i < variants.size() && variants[i].group == group; ++i) {
+                if (!results[i].failure.empty()) {
+                    stopped.push_back(variants[i].label);
+                    continue;
+                }
+                std::string which;
+                for (const auto& [name, field] : judged)
+                    if (difference(results[i], ref, field).distinguishable()) which += (which.empty() ? "" : ", ") + std::string(name);
+                if (which.empty()) within.push_back(variants[i].label);
+                else apart.push_back(variants[i].label + " (" + which + ")");
+            }
+            auto list = [](const std::vector<std::string>& v) {
+                std::string t;
+                for (std::size_t k = 0; k < v.size(); ++k) t += (k ? "; " : "") + v[k];
+                return t;
+            };
+            md << "- **" << group << "**: ";
+            if (!apart.empty()) md << "Distinguishable from the reference: " << list(apart) << ". ";
+            if (!within.empty()) md << "Within the packings' scatter: " << list(within) << ". ";
+            if (!stopped.empty()) md << "Stopped: " << list(stopped) << ".";
+            md << "\n";
+        }
+        // The paper preset's loading rate, from scripts/rate_convergence.sh, where it wrote its table.
+        if (std::ifstream rate(fs::path(out_dir) / "loading-rate.md"); rate) {
+            std::ostringstream text;
+            text << rate.rdbuf();
+            md << "\n" << text.str();
         }
 
         md << "\n## Coarse-graining kernel width\n\n"
@@ -452,21 +548,22 @@ int main(int argc, char** argv) {
         std::vector<Series> right{{"time step, velocity Verlet", "#1f77b4", {}}, {"loading period T", "#2ca02c", {}}};
         double floor_error = 0;
         for (std::size_t i = 1; i < variants.size(); ++i) {
-            if (!outcomes[i].failure.empty()) continue;
-            const double err = rel(outcomes[i].peak_ratio, ref.peak_ratio);
-            if (variants[i].group == "time step" || variants[i].group == "default") right[0].points.emplace_back(outcomes[i].seconds, err);
-            if (variants[i].group == "loading period" || variants[i].group == "default") right[1].points.emplace_back(outcomes[i].seconds, err);
+            if (!results[i].failure.empty()) continue;
+            const double err = rel(results[i].mean(&Outcome::peak_ratio), ref.mean(&Outcome::peak_ratio));
+            const double seconds = results[i].mean(&Outcome::seconds);
+            if (variants[i].group == "time step" || variants[i].group == "default") right[0].points.emplace_back(seconds, err);
+            if (variants[i].group == "loading period" || variants[i].group == "default") right[1].points.emplace_back(seconds, err);
             if (variants[i].group == "floor" && variants[i].label.find("dt x") != std::string::npos) floor_error = err;
         }
         for (auto& s : right) std::sort(s.points.begin(), s.points.end());
         // What converges despite the chaos: the energy books' residual against the time step.
         std::vector<Series> residual{{"velocity Verlet", "#1f77b4", {}}, {"symplectic Euler", "#d62728", {}}};
         for (std::size_t i = 0; i < variants.size(); ++i) {
-            if (!outcomes[i].failure.empty() || variants[i].single_precision) continue;
+            if (!results[i].failure.empty() || variants[i].single_precision) continue;
             const auto& g = variants[i].group;
             if (g == "time step" || g == "default" || g == "reference" || g == "integrator")
                 residual[variants[i].symplectic_euler ? 1 : 0].points.emplace_back(variants[i].config.dt_fraction,
-                                                                                  std::abs(outcomes[i].residual));
+                                                                                  std::abs(results[i].mean(&Outcome::residual)));
         }
         for (auto& s : residual) std::sort(s.points.begin(), s.points.end());
         std::ostringstream svg;
