@@ -14,7 +14,7 @@ out=${OUT:-runs/loading_damping}
 mkdir -p "$out"
 prepared=${PREPARED:-}
 if [ -z "$prepared" ]; then  # the paper preset's preparation only: stop at its first row
-  "$build/examples/biaxial" --preset paper --out "$out/prepare" --no-pictures --quiet --vtk-every 0 --stop-after-rows 1 || true
+  "$build/examples/biaxial" --preset paper --out "$out/prepare" --overwrite --no-pictures --quiet --vtk-every 0 --stop-after-rows 1 || true
   prepared=$out/prepare/prepared.state
 fi
 load() {  # label, then biaxial options

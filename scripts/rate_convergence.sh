@@ -17,7 +17,7 @@ out=${OUT:-runs/rate_$preset}
 mkdir -p "$out"
 prepared=${PREPARED:-}
 if [ -z "$prepared" ]; then  # the preset's preparation only: stop at its first row
-  "$build/examples/biaxial" --preset "$preset" --out "$out/prepare" --no-pictures --quiet --vtk-every 0 --stop-after-rows 1 || true
+  "$build/examples/biaxial" --preset "$preset" --out "$out/prepare" --overwrite --no-pictures --quiet --vtk-every 0 --stop-after-rows 1 || true
   prepared=$out/prepare/prepared.state
 fi
 load() {

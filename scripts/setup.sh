@@ -31,7 +31,7 @@ cmake --build "$build" -j "$jobs"
 
 if [ "$mode" = run ]; then
   out=${OUT:-runs/quick}
-  "$build/examples/biaxial" --preset quick --out "$out"
+  "$build/examples/biaxial" --preset quick --out "$out" --overwrite  # this script's demo run, replaced each time
   echo "time series: $out/timeseries.csv   parameters and timing: $out/run.json"
 else
   BOOST_TEST_COLOR_OUTPUT=no ctest --test-dir "$build" --output-on-failure -j "$jobs"

@@ -138,20 +138,23 @@ int main(int argc, char** argv) {
             for (auto& x : v) x *= f;
             return v;
         };
-        std::error_code ec;
-        fs::create_directories(out, ec);
-        if (!fs::is_directory(out)) fail("cannot create the directory " + out);
+        // Every chart's columns are gathered before any file is written: a missing column
+        // leaves no partial set of plots behind.
+        struct Chart {
+            std::string file, title, ylabel;
+            std::vector<Series> series;
+        };
+        std::vector<Chart> charts;
         const auto eps = get("strain_" + zz);
         const std::string x = "eps_zz (1)";
         std::vector<double> nuC = get("volume_fraction");
         const auto C = get("coordination");
         for (std::size_t i = 0; i < nuC.size(); ++i) nuC[i] *= C[i];
-        plot(fs::path(out) / "fabric.png", "Fabric (Fig. 4)", x, "contact number density (1)", eps,
-             {{"tr F", get("trF")}, {"tr F / g2", get("trF_over_g2")}, {"nu C", nuC}}, width, height);
+        charts.push_back({"fabric.png", "Fabric (Fig. 4)", "contact number density (1)",
+                          {{"tr F", get("trF")}, {"tr F / g2", get("trF_over_g2")}, {"nu C", nuC}}});
         std::vector<Series> dev{{"deviatoric fabric", get("deviatoric_fabric")}};
         if (!three) dev.push_back({"phi_F (rad)", get("phi_F")});
-        plot(fs::path(out) / "fabric_deviator.png", "Fabric anisotropy (Fig. 4)", x, "deviator (1), angle (rad)", eps, dev,
-             width, height);
+        charts.push_back({"fabric_deviator.png", "Fabric anisotropy (Fig. 4)", "deviator (1), angle (rad)", dev});
         const std::vector<std::string> normal = three ? std::vector<std::string>{"1111", "2222", "3333", "1133", "1313"}
                                                       : std::vector<std::string>{"1111", "2222", "1122", "1212", "1112", "1222"};
         std::vector<Series> cn, ct;
@@ -159,16 +162,19 @@ int main(int argc, char** argv) {
         const std::vector<std::string> tang = three ? std::vector<std::string>{"1111", "3333", "1313", "3131", "1133"}
                                                     : std::vector<std::string>{"1111", "2222", "1122", "1212", "2121", "1112", "1222", "1121", "2122"};
         for (const auto& e : tang) ct.push_back({"C_t_" + e, scaled(get("C_t_" + e), 1.0 / (kt_ratio * k))});
-        plot(fs::path(out) / "stiffness_normal.png", "Normal stiffness (Fig. 5 left)", x, "C^n / k (1)", eps, cn, width, height);
-        plot(fs::path(out) / "stiffness_tangential.png", "Tangential stiffness (Fig. 5 right)", x, "C^t / k_t (1)", eps, ct,
-             width, height);
+        charts.push_back({"stiffness_normal.png", "Normal stiffness (Fig. 5 left)", "C^n / k (1)", cn});
+        charts.push_back({"stiffness_tangential.png", "Tangential stiffness (Fig. 5 right)", "C^t / k_t (1)", ct});
         const std::string unit = three ? "Pa" : "N/m";
-        plot(fs::path(out) / "stress.png", "Stress", x, "stress (" + unit + ")", eps,
-             {{"sigma_11 (inner)", get("sigma_11")}, {"sigma_" + zz + " (inner)", get("sigma_" + zz)},
-              {"sigma_11 (walls)", get("sigma_wall_11")}, {"sigma_" + zz + " (walls)", get("sigma_wall_" + zz)}},
-             width, height);
-        plot(fs::path(out) / "volumetric.png", "Volumetric strain", x, "volumetric strain (1, compaction > 0)", eps,
-             {{"volumetric strain", get("volumetric_strain")}}, width, height);
+        charts.push_back({"stress.png", "Stress", "stress (" + unit + ")",
+                          {{"sigma_11 (inner)", get("sigma_11")}, {"sigma_" + zz + " (inner)", get("sigma_" + zz)},
+                           {"sigma_11 (walls)", get("sigma_wall_11")}, {"sigma_" + zz + " (walls)", get("sigma_wall_" + zz)}}});
+        charts.push_back({"volumetric.png", "Volumetric strain", "volumetric strain (1, compaction > 0)",
+                          {{"volumetric strain", get("volumetric_strain")}}});
+        if (eps.size() < 2) fail(input + " has " + std::to_string(eps.size()) + " rows; a plot needs at least 2");
+        std::error_code ec;
+        fs::create_directories(out, ec);
+        if (!fs::is_directory(out)) fail("cannot create the directory " + out);
+        for (const auto& c : charts) plot(fs::path(out) / c.file, c.title, x, c.ylabel, eps, c.series, width, height);
         std::printf("plot_timeseries: 6 plots in %s\n", out.c_str());
         return 0;
     } catch (const std::exception& e) {

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <random>
 #include <sstream>
 #include <string>
 
@@ -132,6 +133,53 @@ Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     return c;
 }
 
+/// What a run writes into its folder. A folder that holds any of these holds a run.
+const char* const run_entries[] = {"run.json",       "timeseries.csv", "timeseries.csv.partial", "checkpoint.state",
+                                   "prepared.state", "vtk",            "plots",                  "snapshots"};
+
+/// Makes `out` ready for a new run: created if missing. A folder that holds an earlier run is
+/// refused, so that no result is overwritten and no two runs mix, unless `overwrite`, which
+/// first removes that run's entries (and nothing else of the folder).
+void claim_output_folder(const fs::path& out, bool overwrite, const std::string& from_prepared) {
+    std::string found;
+    for (const char* entry : run_entries)
+        if (fs::exists(out / entry)) found += (found.empty() ? "" : ", ") + std::string(entry);
+    if (!found.empty()) {
+        if (!overwrite)
+            micromacro::detail::throw_input_error("--out ", out.string(), " holds an earlier run (", found,
+                                                  "); give another --out, --resume ", out.string(),
+                                                  " to continue a killed run, or --overwrite to replace it");
+        std::error_code ec;
+        if (!from_prepared.empty() && fs::weakly_canonical(from_prepared, ec).parent_path() == fs::weakly_canonical(out, ec))
+            micromacro::detail::throw_input_error("--from-prepared ", from_prepared, " lies in --out ", out.string(),
+                                                  ", which --overwrite would clear first; copy it elsewhere or choose another --out");
+        for (const char* entry : run_entries) fs::remove_all(out / entry);
+    }
+    std::error_code ec;
+    fs::create_directories(out, ec);
+    const fs::path probe = out / ".write_test";
+    if (ec || !std::ofstream(probe)) micromacro::detail::throw_input_error("--out ", out.string(), " is not a writable directory");
+    fs::remove(probe, ec);
+}
+
+/// A name for one run, written into its run.json, states and time series, so that files of two
+/// runs are never taken for one: 16 hexadecimal digits from the system's random source.
+std::string new_run_id() {
+    std::random_device source;
+    char id[17];
+    std::snprintf(id, sizeof id, "%08x%08x", source(), source());
+    return id;
+}
+
+/// The run id a time series was started with (its first line), or empty.
+std::string run_id_of_series(const fs::path& csv) {
+    std::ifstream in(csv);
+    std::string line;
+    std::getline(in, line);
+    const std::string tag = "# run ";
+    return line.rfind(tag, 0) == 0 ? line.substr(tag.size()) : "";
+}
+
 /// A program of the project next to this one: installed in the same directory, or in the build
 /// tree's viz/ beside examples/. Empty if not found.
 fs::path sibling_program(const std::string& name) {
@@ -156,7 +204,6 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
             const std::size_t f = q * (frames - 1) / 4;
             if (picked.empty() || picked.back() != f) picked.push_back(f);
         }
-        fs::create_directories(out / "snapshots");
         for (const std::size_t f : picked) {
             const std::string k = std::to_string(f);
             commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --walls " +
@@ -172,6 +219,7 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
         for (const auto& c : commands) std::printf("  %s%s\n", xvfb.c_str(), c.c_str());
         return;
     }
+    fs::create_directories(out / "snapshots");
     int failed = 0;
     for (const auto& c : commands) failed += std::system((c + " > /dev/null").c_str()) != 0;
     std::printf("pictures: %s/plots, %s/snapshots%s\n", out.string().c_str(), out.string().c_str(),
@@ -189,10 +237,25 @@ struct Plan {
     bool pictures = true;             // snapshots and plots at the end (if a display is there)
     bool quiet = false;
     int threads = 1;                  // bitwise identical results for a fixed count
+    std::string run_id;               // see new_run_id
 };
 
+/// The settings of a plan that shape a run's output, saved in its checkpoint and restored by --resume.
+nlohmann::ordered_json plan_json(const Plan& p) {
+    return {{"run_id", p.run_id}, {"from_prepared", p.from_prepared}, {"checkpoint_every_s", p.checkpoint_every},
+            {"vtk_every_rows", p.vtk_every_rows}, {"threads", p.threads}};
+}
+
+void plan_from_json(const nlohmann::ordered_json& j, Plan& p) {
+    p.run_id = j.at("run_id");
+    p.from_prepared = j.at("from_prepared");
+    p.checkpoint_every = j.at("checkpoint_every_s");
+    p.vtk_every_rows = j.at("vtk_every_rows");
+    p.threads = j.at("threads");
+}
+
 template <int dim>
-int run(const Config& c, const Plan& plan) {
+int run(const Config& c, Plan plan) {
     const bool terminal = !plan.quiet && isatty(STDOUT_FILENO);
     const auto wall_start = std::chrono::steady_clock::now();
     const std::string started = now_iso();
@@ -238,6 +301,7 @@ int run(const Config& c, const Plan& plan) {
     auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
         nlohmann::ordered_json j;
         j["parameters"] = parameters(c);
+        j["plan"] = plan_json(plan);
         j["bookkeeping"] = exp.bookkeeping();
         j["rows"] = rows;
         j["csv_bytes"] = csv_bytes;
@@ -258,6 +322,9 @@ int run(const Config& c, const Plan& plan) {
         steps_before = sim.steps_done();
         if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
             micromacro::detail::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
+        if (const std::string series = run_id_of_series(partial); series != plan.run_id)
+            micromacro::detail::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
+                                                  plan.run_id, "'; the folder mixes two runs and cannot resume");
         fs::resize_file(partial, saved.at("csv_bytes").get<std::uintmax_t>());  // drop rows written after the checkpoint
         csv.open(partial, std::ios::app);
     } else {
@@ -284,6 +351,7 @@ int run(const Config& c, const Plan& plan) {
     auto write_row = [&] {
         const auto r = exp.row();
         if (rows_done == 0) {
+            csv << "# run " << plan.run_id << "\n";
             csv << "# units: time s, strains 1, walls m, stresses " << (dim == 2 ? "N/m" : "Pa") << ", stiffness "
                 << (dim == 2 ? "N/m" : "Pa") << ", fabric 1, energies J, phi_F rad\n";
             for (std::size_t i = 0; i < r.names.size(); ++i) csv << (i ? "," : "") << r.names[i];
@@ -336,6 +404,7 @@ int run(const Config& c, const Plan& plan) {
     nlohmann::ordered_json j;
     j["program"] = "micromacro biaxial";
     j["version"] = "0.1.0";
+    j["run_id"] = plan.run_id;
     j["parameters"] = parameters(c);
     j["derived"] = {{"contact_duration_s", tc},
                     {"time_step_s", sim.time_step()},
@@ -357,6 +426,7 @@ int run(const Config& c, const Plan& plan) {
                     {"controlled_side_wall_mean", q.controlled_side_wall},
                     {"controlled_side_wall_rms_deviation_over_p", q.controlled_rms_deviation},
                     {"inner_minus_wall_stress_over_wall_stress_median", q.inner_over_wall},
+                    {"inner_minus_wall_stress_over_wall_stress_at_rest", q.inner_over_wall_at_rest},
                     {"damping_energy_over_wall_work", q.damping_over_wall_work}};
     j["timing"] = {{"started", started},
                    {"finished", now_iso()},
@@ -369,6 +439,8 @@ int run(const Config& c, const Plan& plan) {
                    {"particle_steps_per_second", pps},
                    {"threads", plan.threads}};
     write_atomically(out / "run.json", j.dump(2) + "\n");
+    // The run is complete: its checkpoint would only let a later run in this folder resume into it.
+    fs::remove(out / "checkpoint.state");
     if (terminal) std::printf("\n");
     if (plan.pictures) make_pictures(out, vtk_times.size(), dim);
     std::printf("biaxial %dD: %zu particles, %zu steps in %.1f s (%.3g particle-steps/s); results in %s\n", dim,
@@ -388,7 +460,9 @@ int main(int argc, char** argv) {
     app.add_option("--preset", preset, "paper (N = 1950, T = 1 s) or quick (N = 300, T = 0.1 s)")->capture_default_str();
     Plan plan;
     std::string resume;
-    auto* out_option = app.add_option("--out", out, "output directory (created)");
+    auto* out_option = app.add_option("--out", out, "output directory (created); one that holds an earlier run is refused");
+    bool overwrite = false;
+    app.add_flag("--overwrite", overwrite, "replace the earlier run in --out (its files only)");
     app.add_option("--from-prepared", plan.from_prepared, "start the loading from a prepared.state of an earlier run")
         ->check(CLI::ExistingFile);
     app.add_option("--checkpoint-every", plan.checkpoint_every,
@@ -435,13 +509,24 @@ int main(int argc, char** argv) {
         plan.quiet = quiet;
         plan.pictures = !no_pictures;
         if (!resume.empty()) {  // everything comes from the checkpoint
+            // Any setting given now would be ignored or would change the run half-way: refused.
+            for (const CLI::Option* o : app.get_options())
+                if (o->count() && o->get_name() != "--resume" && o->get_name() != "--quiet" && o->get_name() != "--no-pictures")
+                    micromacro::detail::throw_input_error(o->get_name(), " cannot be given with --resume: a resumed run keeps every "
+                                                          "setting of the run it continues (saved in its checkpoint); drop ",
+                                                          o->get_name());
             plan.out = resume;
             plan.resume = true;
             const fs::path checkpoint = plan.out / "checkpoint.state";
             if (!fs::exists(checkpoint))
-                micromacro::detail::throw_input_error(checkpoint.string(), " does not exist; was the run started with --checkpoint-every?");
+                micromacro::detail::throw_input_error(checkpoint.string(), " does not exist; was the run started with "
+                                                      "--checkpoint-every, or did it complete?");
             // The settings are the text saved with the state (they say which dimension to restore).
-            c = config_from_json(nlohmann::ordered_json::parse(micromacro::io::state_text(checkpoint, "checkpoint")), c);
+            const auto saved = nlohmann::ordered_json::parse(micromacro::io::state_text(checkpoint, "checkpoint"));
+            if (!saved.contains("plan"))
+                micromacro::detail::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
+            c = config_from_json(saved, c);
+            plan_from_json(saved.at("plan"), plan);
             return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
         }
         biaxial::apply_preset(c, preset);
@@ -469,18 +554,28 @@ int main(int argc, char** argv) {
         set(gwt, c.wall_follow_time);
         set(interval, c.output_interval);
         set(margin, c.inner_margin);
-        if (!plan.from_prepared.empty() && !particles->count())  // the prepared state decides
-            c.particles = nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared, "prepared"))
-                              .at("parameters").at("particles").get<std::size_t>();
+        if (!plan.from_prepared.empty()) {
+            // The packing, and so everything that made it, comes from the prepared state: options
+            // of the preparation would be recorded in run.json without having acted.
+            for (const char* name : {"--seed", "--mu-prepare", "--gamma-b-prepare", "--prepare-speed", "--particles"})
+                if (app.get_option(name)->count())
+                    micromacro::detail::throw_input_error(name, " cannot be given with --from-prepared: the prepared state "
+                                                          "holds the packing it made (run.json records its value); drop ", name);
+            const auto prepared = config_from_json(
+                nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared, "prepared")), c);
+            if (prepared.dim != c.dim)
+                micromacro::detail::throw_input_error(plan.from_prepared, " holds a different scene (dim=", prepared.dim,
+                                                      "), this run asks for --dim ", c.dim);
+            c.particles = prepared.particles, c.seed = prepared.seed, c.mu_prepare = prepared.mu_prepare;
+            c.gamma_b_prepare = prepared.gamma_b_prepare, c.prepare_speed = prepared.prepare_speed;
+            c.radius_min = prepared.radius_min, c.radius_max = prepared.radius_max, c.box_factor = prepared.box_factor;
+            c.prepare_kinetic_ratio = prepared.prepare_kinetic_ratio;
+        }
         biaxial::validate(c);
         micromacro::detail::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
-        std::error_code ec;
-        fs::create_directories(out, ec);
-        const fs::path probe = fs::path(out) / ".write_test";
-        if (ec || !std::ofstream(probe))
-            micromacro::detail::throw_input_error("--out ", out, " is not a writable directory");
-        fs::remove(probe, ec);
+        claim_output_folder(out, overwrite, plan.from_prepared);
         plan.out = out;
+        plan.run_id = new_run_id();
         return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "biaxial: %s\n", e.what());

@@ -10,7 +10,9 @@
 //   stress-controlled (upper) wall, and the controlled wall's rms deviation from p, over the
 //   whole motion;
 // - the bias of the inner box: per axis the median of (sigma_kk - sigma_wall_kk) / sigma_wall_kk
-//   over the middle 60% of the motion (sigma of the inner box, sigma_wall from the walls);
+//   over the middle 60% of the motion (sigma of the inner box, sigma_wall from the walls), and the
+//   same gap at rest before the top wall moves (the first row): what the packing's structure gives
+//   without any motion or drag, e.g. the looser layer next to a flat wall in a small 3D box;
 // - the damping: the energy the damping policies removed over the motion, over the work the
 //   walls did on the packing.
 #include <cmath>
@@ -27,6 +29,7 @@ struct LoadingQuality {
     std::vector<double> fixed_side_wall, controlled_side_wall;  ///< mean push over the area, per lateral axis
     std::vector<double> controlled_rms_deviation;              ///< relative to p, per lateral axis
     std::vector<double> inner_over_wall;                       ///< median relative gap, per axis
+    std::vector<double> inner_over_wall_at_rest;               ///< the gap of the first row, per axis
     double damping_over_wall_work = NAN;
 };
 
@@ -85,6 +88,7 @@ inline LoadingQuality loading_quality(const std::map<std::string, std::vector<do
         std::vector<double> gaps;
         for (std::size_t r = first; r <= last; ++r) gaps.push_back((inner[r] - wall[r]) / wall[r]);
         q.inner_over_wall.push_back(quantile(gaps, 0.5));
+        q.inner_over_wall_at_rest.push_back((inner[0] - wall[0]) / wall[0]);
     }
     const auto &damped = col.at("dissipated_background"), &work = col.at("work_by_walls");
     const double done = work[motion_end] - work[0];

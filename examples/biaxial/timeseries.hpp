@@ -2,32 +2,56 @@
 // Reading a biaxial timeseries.csv back: columns by name (comment lines skipped); and the few
 // statistics biaxial_summary takes of a column.
 #include <algorithm>
+#include <charconv>
 #include <cmath>
 #include <fstream>
 #include <map>
 #include <sstream>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 namespace biaxial {
 
+/// The columns of a timeseries.csv by name. A damaged file is an error naming the file and line:
+/// no header, a repeated column name, a row with another number of fields than the header, or a
+/// field that is not a finite number (the biaxial program writes none).
 inline std::map<std::string, std::vector<double>> read_timeseries(const std::string& path) {
     std::ifstream in(path);
+    if (!in) throw std::runtime_error("cannot read " + path);
     std::map<std::string, std::vector<double>> columns;
     std::vector<std::string> names;
     std::string line;
-    while (std::getline(in, line)) {
+    auto fail = [&](std::size_t number, const std::string& what) {
+        throw std::runtime_error(path + ":" + std::to_string(number) + ": " + what);
+    };
+    for (std::size_t number = 1; std::getline(in, line); ++number) {
+        if (!line.empty() && line.back() == '\r') line.pop_back();
         if (line.empty() || line[0] == '#') continue;
-        std::stringstream s(line);
-        std::string field;
         std::vector<std::string> fields;
-        while (std::getline(s, field, ',')) fields.push_back(field);
+        std::stringstream s(line);
+        for (std::string field; std::getline(s, field, ',');) fields.push_back(field);
+        if (line.back() == ',') fields.emplace_back();
         if (names.empty()) {
             names = fields;
+            for (const auto& name : names)
+                if (name.empty() || !columns.emplace(name, std::vector<double>{}).second)
+                    fail(number, "the header names column '" + name + "' " + (name.empty() ? "without a name" : "twice"));
             continue;
         }
-        for (std::size_t i = 0; i < fields.size() && i < names.size(); ++i) columns[names[i]].push_back(std::stod(fields[i]));
+        if (fields.size() != names.size())
+            fail(number, std::to_string(fields.size()) + " fields where the header has " + std::to_string(names.size()));
+        for (std::size_t i = 0; i < fields.size(); ++i) {
+            const std::string& f = fields[i];
+            double v = 0.0;
+            const auto [end, error] = std::from_chars(f.data(), f.data() + f.size(), v);
+            if (error != std::errc() || end != f.data() + f.size() || !std::isfinite(v))
+                fail(number, "column '" + names[i] + "' holds '" + f + "', not a finite number");
+            columns[names[i]].push_back(v);
+        }
     }
+    if (in.bad()) throw std::runtime_error("cannot read " + path);
+    if (names.empty()) throw std::runtime_error(path + " has no header line: not a biaxial time series");
     return columns;
 }
 

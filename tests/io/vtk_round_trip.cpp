@@ -1,9 +1,12 @@
 // VTK writers: a known configuration written and read back with VTK's own XML readers gives every
 // array exactly, in 2D (plane z = 0) and 3D; the .pvd lists the times; errors for missing
-// directories; no partial files left.
+// directories and a full disk; no partial files left.
 #define BOOST_TEST_MODULE io_vtk_round_trip
 #include <boost/test/unit_test.hpp>
 
+#include <sys/resource.h>
+
+#include <csignal>
 #include <filesystem>
 
 #include <micromacro/io/vtk.hpp>
@@ -134,4 +137,40 @@ BOOST_AUTO_TEST_CASE(missing_directory_is_an_error) {
     } catch (const mm::InputError& e) {
         BOOST_TEST(std::string(e.what()).find("the directory /nonexistent/dir does not exist") != std::string::npos, e.what());
     }
+}
+
+// A full disk, as a file-size limit (RLIMIT_FSIZE with SIGXFSZ ignored: writes past the limit
+// fail with EFBIG, as on a full disk): VTK's writer leaves a truncated file and may still return
+// success, so the error code decides. The frame and the collection are refused with a message,
+// and neither a truncated file under its final name nor a .partial is left.
+BOOST_AUTO_TEST_CASE(full_disk_leaves_no_file) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_vtk_full";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    auto sim = frictional_scene<3>();
+    const auto frame = mm::io::particle_frame(sim);
+    rlimit before{};
+    getrlimit(RLIMIT_FSIZE, &before);
+    const auto old_handler = std::signal(SIGXFSZ, SIG_IGN);
+    rlimit tiny = before;
+    tiny.rlim_cur = 512;  // bytes: less than the frame's header
+    BOOST_REQUIRE(setrlimit(RLIMIT_FSIZE, &tiny) == 0);
+    std::string particles_error, pvd_error;
+    try {
+        mm::io::write_particles(frame, dir / "particles_0.vtp");
+    } catch (const mm::InputError& e) {
+        particles_error = e.what();
+    }
+    try {
+        mm::io::PvdCollection pvd(dir / "particles.pvd");
+        for (int f = 0; f < 40; ++f) pvd.add(0.001 * f, "particles_" + std::to_string(f) + ".vtp");  // over 512 bytes
+        pvd.write();
+    } catch (const mm::InputError& e) {
+        pvd_error = e.what();
+    }
+    setrlimit(RLIMIT_FSIZE, &before);
+    std::signal(SIGXFSZ, old_handler);
+    BOOST_TEST(particles_error.find("cannot write " + (dir / "particles_0.vtp").string()) != std::string::npos, particles_error);
+    BOOST_TEST(pvd_error.find("cannot write") != std::string::npos, pvd_error);
+    BOOST_TEST(fs::is_empty(dir));  // no truncated frame, no collection, no .partial
 }

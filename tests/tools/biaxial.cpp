@@ -26,6 +26,20 @@ const fs::path work = fs::temp_directory_path() / "micromacro_biaxial_test";
 mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(BIAXIAL, args, work); }
 using mmtest::slurp;
 
+// A time series without its first line, "# run <id>", which names the run and so differs
+// between any two runs.
+std::string rows_of(const fs::path& csv) {
+    const std::string text = slurp(csv);
+    if (text.rfind("# run ", 0) != 0) return "no run id line in " + csv.string();
+    return text.substr(text.find('\n') + 1);
+}
+
+// Runs of an earlier test process are refused by design (--out holds a run): start clean.
+struct CleanWork {
+    CleanWork() { fs::remove_all(work); }
+};
+BOOST_GLOBAL_FIXTURE(CleanWork);
+
 std::map<std::string, std::vector<double>> read_series(const fs::path& p) { return biaxial::read_timeseries(p.string()); }
 
 // One short 2D run shared by the physics checks: 600 particles, T = 0.1 s, eps_f = 0.3.
@@ -147,14 +161,14 @@ BOOST_AUTO_TEST_CASE(same_seed_same_bits) {
     const std::string args = " --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 7 --out ";
     BOOST_TEST_REQUIRE(run(args + (work / "a").string()).status == 0);
     BOOST_TEST_REQUIRE(run(args + (work / "b").string()).status == 0);
-    const auto a = slurp(work / "a" / "timeseries.csv"), b = slurp(work / "b" / "timeseries.csv");
+    const auto a = rows_of(work / "a" / "timeseries.csv"), b = rows_of(work / "b" / "timeseries.csv");
     BOOST_TEST(a.size() > 1000u);
     BOOST_TEST((a == b));
     BOOST_TEST(!fs::exists(work / "a" / "timeseries.csv.partial"));
     BOOST_TEST(slurp(work / "a" / "run.json").find("particle_steps_per_second") != std::string::npos);
     const std::string other = " --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 8 --out ";
     BOOST_TEST_REQUIRE(run(other + (work / "c").string()).status == 0);
-    BOOST_TEST((slurp(work / "c" / "timeseries.csv") != a));
+    BOOST_TEST((rows_of(work / "c" / "timeseries.csv") != a));
 }
 
 // Nothing lost: a run killed after a checkpoint and resumed ends with the same timeseries.csv as
@@ -171,24 +185,30 @@ BOOST_AUTO_TEST_CASE(resume_and_prepared_equal_uninterrupted) {
     BOOST_TEST(!fs::exists(killed / "timeseries.csv"));  // only the partial file
     const auto r = run("--quiet --resume " + killed.string());
     BOOST_TEST_REQUIRE(r.status == 0, r.err);
-    BOOST_TEST((slurp(killed / "timeseries.csv") == slurp(full / "timeseries.csv")));
+    BOOST_TEST((rows_of(killed / "timeseries.csv") == rows_of(full / "timeseries.csv")));
     BOOST_TEST(!fs::exists(killed / "timeseries.csv.partial"));
-    const std::string no_count = " --preset quick --period 0.02 --relax 0.002 --quiet --seed 7";  // N from the state
+    BOOST_TEST(!fs::exists(killed / "checkpoint.state"));  // complete: nothing left to resume into
+    // The resumed run is the killed one: one run id in its time series, run.json and nowhere else.
+    const std::string id = slurp(killed / "timeseries.csv").substr(6, 16);
+    BOOST_TEST(slurp(killed / "run.json").find("\"run_id\": \"" + id + "\"") != std::string::npos, id);
+    BOOST_TEST(slurp(full / "run.json").find(id) == std::string::npos);
+    const std::string no_count = " --preset quick --period 0.02 --relax 0.002 --quiet";  // N and seed from the state
     BOOST_TEST_REQUIRE(run(no_count + " --from-prepared " + (full / "prepared.state").string() + " --out " + prepared.string()).status == 0);
-    BOOST_TEST((slurp(prepared / "timeseries.csv") == slurp(full / "timeseries.csv")));
+    BOOST_TEST((rows_of(prepared / "timeseries.csv") == rows_of(full / "timeseries.csv")));
+    BOOST_TEST(slurp(prepared / "run.json").find("\"seed\": 7,") != std::string::npos);  // the packing's, from the state
     // A prepared state of the other dimension is refused before any work.
     const auto other = run("--dim 3 --quiet --from-prepared " + (full / "prepared.state").string() + " --out " + (work / "other").string());
     BOOST_TEST(other.status != 0);
     BOOST_TEST(other.err.find("holds a different scene (dim=2") != std::string::npos, other.err);
     // A checkpoint is not a prepared state: offered as one it is refused, and a damaged
     // checkpoint does not resume.
-    const auto mixed = run(no_count + " --from-prepared " + (killed / "checkpoint.state").string() + " --out " +
-                           (work / "mixed").string());
-    BOOST_TEST(mixed.status != 0);
-    BOOST_TEST(mixed.err.find("is a checkpoint state, not a prepared state") != std::string::npos, mixed.err);
     const auto again = work / "again";
     fs::remove_all(again);
     BOOST_TEST_REQUIRE(run(args + " --checkpoint-every 0.003 --stop-after-rows 25 --out " + again.string()).status != 0);
+    const auto mixed = run(no_count + " --from-prepared " + (again / "checkpoint.state").string() + " --out " +
+                           (work / "mixed").string());
+    BOOST_TEST(mixed.status != 0);
+    BOOST_TEST(mixed.err.find("is a checkpoint state, not a prepared state") != std::string::npos, mixed.err);
     {
         std::fstream f(again / "checkpoint.state", std::ios::in | std::ios::out | std::ios::binary);
         const auto middle = static_cast<std::streamoff>(fs::file_size(again / "checkpoint.state") / 2);
@@ -200,6 +220,65 @@ BOOST_AUTO_TEST_CASE(resume_and_prepared_equal_uninterrupted) {
     const auto damaged = run("--quiet --resume " + again.string());
     BOOST_TEST(damaged.status != 0);
     BOOST_TEST(damaged.err.find("damaged") != std::string::npos, damaged.err);
+}
+
+// Run folders never mix two runs and never lose one: a folder that holds a run is refused as
+// --out (its files untouched) unless --overwrite, which clears that run's files and only those;
+// a resumed run keeps every setting of the run it continues (its VTK frames too) and refuses
+// new ones; a time series of another run is not resumed into; the checkpoint goes when the run
+// completes; a preparation's options with --from-prepared are refused, not recorded.
+BOOST_AUTO_TEST_CASE(run_folders_do_not_mix) {
+    const std::string args = " --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 7";
+    const auto dir = work / "folder";
+    BOOST_TEST_REQUIRE(run(args + " --vtk-every 5 --out " + dir.string()).status == 0);
+    BOOST_TEST(fs::exists(dir / "vtk" / "particles_0.vtp"));
+    const std::string first = slurp(dir / "run.json");
+    const auto again = run(args + " --out " + dir.string());
+    BOOST_TEST(again.exit_code() == 1);
+    BOOST_TEST(again.err.find("holds an earlier run (run.json, timeseries.csv, prepared.state, vtk") != std::string::npos, again.err);
+    BOOST_TEST((slurp(dir / "run.json") == first));
+    std::ofstream(dir / "notes.txt") << "the user's own file\n";
+    BOOST_TEST_REQUIRE(run(args + " --vtk-every 0 --overwrite --out " + dir.string()).status == 0);
+    BOOST_TEST(!fs::exists(dir / "vtk"));  // the old run's frames went with it
+    BOOST_TEST(fs::exists(dir / "notes.txt"));
+    BOOST_TEST((slurp(dir / "run.json") != first));
+    // A prepared state inside the folder --overwrite would clear is refused, not deleted.
+    const auto inside = run(" --preset quick --period 0.02 --relax 0.002 --quiet --overwrite --from-prepared " +
+                            (dir / "prepared.state").string() + " --out " + dir.string());
+    BOOST_TEST(inside.exit_code() == 1);
+    BOOST_TEST(inside.err.find("which --overwrite would clear first") != std::string::npos, inside.err);
+    BOOST_TEST(fs::exists(dir / "prepared.state"));
+    const auto seeded = run(" --preset quick --quiet --seed 3 --from-prepared " + (dir / "prepared.state").string() + " --out " +
+                            (work / "seeded").string());
+    BOOST_TEST(seeded.exit_code() == 1);
+    BOOST_TEST(seeded.err.find("--seed cannot be given with --from-prepared") != std::string::npos, seeded.err);
+
+    // Killed with VTK frames every 7 rows and a checkpoint; resumed without options.
+    const auto killed = work / "killed_vtk";
+    BOOST_TEST_REQUIRE(run(args + " --vtk-every 7 --checkpoint-every 0.003 --stop-after-rows 25 --out " + killed.string()).status != 0);
+    const auto extra = run("--quiet --resume " + killed.string() + " --vtk-every 3");
+    BOOST_TEST(extra.exit_code() == 1);
+    BOOST_TEST(extra.err.find("--vtk-every cannot be given with --resume") != std::string::npos, extra.err);
+    {  // another run's time series in the folder (same length, another id): not resumed into
+        const std::string text = slurp(killed / "timeseries.csv.partial");
+        std::ofstream(killed / "timeseries.csv.partial", std::ios::binary) << "# run 0123456789abcdef" << text.substr(22);
+        const auto mixed = run("--quiet --resume " + killed.string());
+        BOOST_TEST(mixed.exit_code() == 1);
+        BOOST_TEST(mixed.err.find("the folder mixes two runs") != std::string::npos, mixed.err);
+        std::ofstream(killed / "timeseries.csv.partial", std::ios::binary) << text;
+    }
+    const auto resumed = run("--quiet --resume " + killed.string());
+    BOOST_TEST_REQUIRE(resumed.status == 0, resumed.err);
+    BOOST_TEST(!fs::exists(killed / "checkpoint.state"));
+    std::size_t rows = 0;
+    for (char ch : rows_of(killed / "timeseries.csv")) rows += ch == '\n';
+    rows -= 2;  // the units comment and the header
+    std::size_t frames = 0;
+    while (fs::exists(killed / "vtk" / ("particles_" + std::to_string(frames) + ".vtp"))) ++frames;
+    BOOST_TEST(frames == (rows - 1) / 7 + 1, rows << " rows");
+    const auto after = run("--quiet --resume " + killed.string());  // nothing left to resume
+    BOOST_TEST(after.exit_code() == 1);
+    BOOST_TEST(after.err.find("or did it complete?") != std::string::npos, after.err);
 }
 
 BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
@@ -298,7 +377,7 @@ BOOST_AUTO_TEST_CASE(summary_statistics) {
 // The quality figures of run.json on a constructed series with known answers: a stress that
 // rises linearly with the strain has no roughness (the running mean of a line is the line); one
 // with a fast sinusoid of relative amplitude A on top has A / sqrt(2); constant wall pushes give
-// their means, deviations and gaps exactly (rows 1.1e-4 of strain apart, so no row sits on the
+// their means, deviations and gaps exactly (also the first row's, at rest) (rows 1.1e-4 of strain apart, so no row sits on the
 // edge of a +-0.005 window and every window is symmetric); the damping's share of the walls' work is the ratio
 // of the two columns' growth.
 BOOST_AUTO_TEST_CASE(quality_of_a_known_series) {
@@ -325,6 +404,8 @@ BOOST_AUTO_TEST_CASE(quality_of_a_known_series) {
     BOOST_TEST(q.controlled_rms_deviation[0] == 0.03, boost::test_tools::tolerance(1e-12));
     BOOST_TEST(q.inner_over_wall[0] == 0.01, boost::test_tools::tolerance(1e-9));
     BOOST_TEST(std::abs(q.inner_over_wall[1]) < 1e-3);  // the sinusoid's median, about zero
+    BOOST_TEST(q.inner_over_wall_at_rest[0] == 0.01, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(q.inner_over_wall_at_rest[1] == 0.0);  // sin(0): the first row sits on the line
     BOOST_TEST(q.damping_over_wall_work == 0.2, boost::test_tools::tolerance(1e-12));
     // Rows 0.01 of strain apart leave one row in each +-0.005 window: no roughness, not a false 0.
     auto sparse = col;

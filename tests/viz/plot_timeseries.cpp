@@ -1,11 +1,14 @@
 // plot_timeseries under Xvfb: a synthetic time series plots at the requested size, with the
 // first curve's colour where the curve must be (found through the PNG's plot-area sidecar) and
-// background elsewhere; without a display it refuses with a clear message.
+// background elsewhere; without a display, or with a damaged series, it refuses with a clear
+// message and writes nothing.
 #define BOOST_TEST_MODULE viz_plot_timeseries
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 
 #include <nlohmann/json.hpp>
 #include <vtkImageData.h>
@@ -91,4 +94,47 @@ BOOST_AUTO_TEST_CASE(no_display_is_a_clear_error) {
     const auto r = mmtest::run_program("env -u DISPLAY " + std::string(PLOT_TIMESERIES), (dir / "timeseries.csv").string(), dir);
     BOOST_TEST(r.status != 0);
     BOOST_TEST(r.err.find("run under xvfb-run") != std::string::npos, r.err);
+}
+
+// Damaged series are refused with the file, line and column, before any picture is written: a
+// missing column (no partial set of plots), a field that is not a number, a row of another
+// length (two runs' rows glued together), an infinite value.
+BOOST_AUTO_TEST_CASE(damaged_series_write_nothing) {
+    fs::create_directories(dir);
+    write_series(dir / "timeseries.csv");
+    std::ifstream in(dir / "timeseries.csv");
+    std::vector<std::string> lines;
+    for (std::string line; std::getline(in, line);) lines.push_back(line);
+    struct Case {
+        std::string name, expect;
+        std::vector<std::string> lines;
+    };
+    auto edited = [&](std::size_t k, const std::string& line) {
+        auto copy = lines;
+        copy[k] = line;
+        return copy;
+    };
+    const std::string header = lines[1];
+    const std::string no_trF = std::regex_replace(header, std::regex(",trF,"), ",trX,");
+    std::string short_row = lines[5].substr(0, lines[5].rfind(','));
+    const Case cases[] = {
+        {"missing", "has no column trF", edited(1, no_trF)},
+        {"text", "timeseries.csv:6: column 'time' holds 'abc', not a finite number", edited(5, "abc" + lines[5].substr(lines[5].find(',')))},
+        {"short", "timeseries.csv:6: " + std::to_string(std::count(header.begin(), header.end(), ',')) + " fields where the header has",
+         edited(5, short_row)},
+        {"infinite", "column 'time' holds 'inf'", edited(7, "inf" + lines[7].substr(lines[7].find(',')))},
+    };
+    for (const auto& c : cases) {
+        const fs::path series = dir / c.name / "timeseries.csv", plots = dir / c.name / "plots";
+        fs::remove_all(dir / c.name);
+        fs::create_directories(dir / c.name);
+        std::ofstream out(series);
+        for (const auto& line : c.lines) out << line << "\n";
+        out.close();
+        const auto r = mmtest::run_program(std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + PLOT_TIMESERIES,
+                                           series.string() + " --out " + plots.string(), dir);
+        BOOST_TEST(r.exit_code() == 1, c.name);
+        BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.name << ": " << r.err);
+        BOOST_TEST(!fs::exists(plots), c.name);
+    }
 }

@@ -21,6 +21,7 @@
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkIntArray.h>
+#include <vtkErrorCode.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -65,10 +66,16 @@ inline void write_polydata(vtkPolyData* data, const std::filesystem::path& path)
     writer->SetDataModeToAppended();
     writer->SetCompressorTypeToZLib();
     writer->EncodeAppendedDataOff();  // raw binary
-    if (writer->Write() != 1) {
+    // Write() reports some failures only through the error code (a full disk leaves a truncated
+    // file and returns 1): both are checked, and a failed file is removed, never renamed.
+    if (writer->Write() != 1 || writer->GetErrorCode() != vtkErrorCode::NoError) {
+        const unsigned long code = writer->GetErrorCode();
         std::error_code ignored;
         std::filesystem::remove(partial, ignored);
-        micromacro::detail::throw_input_error("cannot write ", path.string(), ": VTK's writer failed (is the directory writable?)");
+        micromacro::detail::throw_input_error("cannot write ", path.string(), ": VTK's writer failed (",
+                                              code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code)
+                                                                            : "no error code",
+                                              "; is the disk full or the directory not writable?)");
     }
     std::filesystem::rename(partial, path);
 }
@@ -248,7 +255,12 @@ public:
             for (const auto& e : entries_)
                 out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"0\" file=\"" << e.file << "\"/>\n";
             out << "  </Collection>\n</VTKFile>\n";
-            if (!out.flush()) micromacro::detail::throw_input_error("cannot write ", partial.string());
+            if (!out.flush()) {
+                out.close();
+                std::error_code ignored;
+                std::filesystem::remove(partial, ignored);
+                micromacro::detail::throw_input_error("cannot write ", partial.string(), " (is the disk full?)");
+            }
         }
         std::filesystem::rename(partial, path_);
     }
