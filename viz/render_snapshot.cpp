@@ -17,9 +17,13 @@
 
 #include <CLI/CLI.hpp>
 #include <vtkActor.h>
+#include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkColorTransferFunction.h>
+#include <vtkCommand.h>
 #include <vtkDoubleArray.h>
+#include <vtkErrorCode.h>
+#include <vtkExecutive.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -55,6 +59,7 @@ fs::path resolve(const fs::path& input, int step) {
     const std::regex file_attr("file=\"([^\"]+)\"");
     for (auto it = std::sregex_iterator(text.begin(), text.end(), file_attr); it != std::sregex_iterator(); ++it)
         files.push_back((*it)[1]);
+    if (text.find("</VTKFile>") == std::string::npos) fail(input.string() + " is truncated (no closing </VTKFile>)");
     if (files.empty()) fail(input.string() + " lists no data sets");
     const int n = static_cast<int>(files.size());
     const int index = step < 0 ? n + step : step;
@@ -66,8 +71,18 @@ fs::path resolve(const fs::path& input, int step) {
 vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
     if (!fs::is_regular_file(p)) fail("cannot read " + p.string() + ": no such file");
     vtkNew<vtkXMLPolyDataReader> reader;
+    // A damaged or truncated file makes the reader raise error events and return what it read
+    // so far; any error refuses the file instead of drawing part of it.
+    vtkNew<vtkCallbackCommand> on_error;
+    bool damaged = false;
+    on_error->SetClientData(&damaged);
+    on_error->SetCallback([](vtkObject*, unsigned long, void* flag, void*) { *static_cast<bool*>(flag) = true; });
+    reader->AddObserver(vtkCommand::ErrorEvent, on_error);
+    reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
     reader->SetFileName(p.string().c_str());
     reader->Update();
+    if (damaged || reader->GetErrorCode() != vtkErrorCode::NoError)
+        fail(p.string() + " is damaged or truncated (VTK could not read it whole)");
     vtkSmartPointer<vtkPolyData> data = reader->GetOutput();
     if (!data || (need_points && data->GetNumberOfPoints() == 0)) fail(p.string() + " holds no points (not a particles .vtp?)");
     return data;

@@ -7,6 +7,8 @@
 // linear spring k, tangential forces come from an optional contact-force file. Run with --help
 // for every option.
 #include <cstdio>
+#include <filesystem>
+#include <functional>
 #include <fstream>
 #include <iostream>
 #include <map>
@@ -65,6 +67,8 @@ mm::SelectionRule selection_rule(const std::string& rule) {
 template <int dim>
 nlohmann::ordered_json analyze(const Options& o, mm::io::PackingFormat format) {
     const auto file = mm::io::read_packing<dim>(o.input, format);
+    if (file.position.size() < 2)  // one particle has no contacts, and its own extent is no box to average over
+        mm::detail::throw_input_error(o.input, " holds one particle; averages need a packing (at least 2)");
     // Box and periodic axes: the options, else the dump's, else the particles' extent.
     const auto domain = mm::io::packing_domain<dim>(file, o.box, o.periodic);
     const mm::Vec<dim> lo = domain.lo(), hi = domain.hi();
@@ -80,6 +84,14 @@ nlohmann::ordered_json analyze(const Options& o, mm::io::PackingFormat format) {
     options.exclude_rattlers = o.exclude_rattlers;
     const auto region = mm::Region<dim>::box(lo, hi).inner(s.domain, o.margin);
     auto j = mm::io::to_json(mm::average(s, region, options));
+    // Numbers that overflowed would print as null: refused.
+    std::function<void(const nlohmann::ordered_json&, const std::string&)> finite = [&](const auto& v, const std::string& key) {
+        if (v.is_number_float() && !std::isfinite(v.template get<double>()))
+            mm::detail::throw_input_error(o.input, ": the average '", key, "' is not finite: the file's values overflow "
+                                          "double arithmetic (are lengths in m and stiffnesses in N/m?)");
+        for (auto it = v.begin(); v.is_structured() && it != v.end(); ++it) finite(*it, v.is_object() ? it.key() : key);
+    };
+    finite(j, "");
     j["region"] = {{"lo", mm::io::vector_json(region.lo)}, {"hi", mm::io::vector_json(region.hi)}};
     j["rule"] = options.rule == mm::SelectionRule::contact_point ? "contact" : "center";
     j["margin"] = o.margin;
@@ -119,6 +131,10 @@ int main(int argc, char** argv) {
 
     try {
         selection_rule(o.rule);  // refuse a bad option before reading anything
+        std::error_code ec;
+        for (const std::string& read : {o.input, o.contact_forces})
+            if (!o.output.empty() && !read.empty() && std::filesystem::equivalent(read, o.output, ec))
+                mm::detail::throw_input_error("-o ", o.output, " is the input ", read, "; write the averages to another file");
         const auto format = o.format.empty() ? mm::io::guess_format(o.input)
                             : o.format == "lammps" ? mm::io::PackingFormat::lammps_dump
                                                    : mm::io::PackingFormat::csv;
@@ -126,7 +142,8 @@ int main(int argc, char** argv) {
         const auto json = dim == 2 ? analyze<2>(o, format) : analyze<3>(o, format);
         const std::string text = json.dump(2) + "\n";
         if (o.output.empty()) {
-            std::cout << text;
+            std::cout << text << std::flush;
+            if (!std::cout) mm::detail::throw_input_error("cannot write to standard output (is the disk full?)");
         } else {
             const std::string partial = o.output + ".partial";
             {

@@ -64,6 +64,22 @@ struct Config {
     /// radius, up to a factor. After preparation the largest overlap of 60 particles is 8-11 p/k of
     /// the smaller radius at p/k = 1e-2 and up to 36 p/k below (tests/tools/biaxial_pressures.cpp).
     double pressure_over_stiffness() const { return dim == 2 ? pressure / k : pressure * 2 * mean_radius() / k; }
+    /// The side of the prepared box, expected from the particles' volume at the dense packing's
+    /// volume fraction (0.84 of disks, 0.64 of spheres).
+    double expected_side() const {
+        double v = 0.0;  // mean particle volume (per unit depth in 2D), radii uniform in [min, max]
+        for (int b = 0; b < 1000; ++b) {
+            const double a = radius_min + (radius_max - radius_min) * (b + 0.5) / 1000;
+            v += (dim == 2 ? M_PI * a * a : 4.0 / 3.0 * M_PI * a * a * a) / 1000;
+        }
+        return std::pow(double(particles) * v / (dim == 2 ? 0.84 : 0.64), 1.0 / dim);
+    }
+    /// The inertial number I = (d eps/dt) d sqrt(rho / p) at the peak rate of Eq. 17, eps_f pi / T, with
+    /// the mean diameter d; in 2D rho is the sphere mass per disk area, 4/3 rho a.
+    double inertial_number() const {
+        const double rho = dim == 2 ? 4.0 / 3.0 * density * mean_radius() : density;
+        return final_strain * M_PI / period * 2.0 * mean_radius() * std::sqrt(rho / pressure);
+    }
     /// The walls' speed while preparing: 5 m/s, slower below p/k = 1e-5 in proportion to p/k,
     /// because the walls bring kinetic energy ~ v^2 into a packing whose elastic energy, against
     /// which rest is judged, falls as (p/k)^2.
@@ -105,6 +121,20 @@ inline void validate(const Config& c) {
     if (!(c.final_strain > 0.0 && c.final_strain < 1.0))
         throw_input_error("--final-strain ", c.final_strain, " is invalid; the strain eps_zz = 1 - z/z0 must be in (0, 1)");
     mm::detail::require_positive(c.period, "--period", "give T of Eq. 17 in s");
+    // The run's limits, each naming the option at fault and the value that would do.
+    if (c.particles > 100'000'000)
+        throw_input_error("--particles ", c.particles, " is beyond this program's 1e8 (about 1 kB each in memory); "
+                          "use fewer, or the library directly");
+    const double dt = c.time_step(), d_max = 2.0 * c.radius_max;
+    if (c.inertial_number() > 1.0)
+        throw_input_error("--period ", c.period, " s loads at an inertial number of ", c.inertial_number(),
+                          " at the peak rate, above 1: the top wall outruns the packing (a quasi-static test needs "
+                          "I << 1, the paper's T = 1 s gives 5e-4); use --period >= ", c.period * c.inertial_number());
+    if ((1.0 - c.final_strain) * c.expected_side() < 2.0 * d_max)
+        throw_input_error("--final-strain ", c.final_strain, " leaves the box about ", (1.0 - c.final_strain) * c.expected_side(),
+                          " m high, less than 2 of the largest particles (", d_max, " m each): no packing is left between "
+                          "the walls; use --final-strain <= ", std::floor(100 * (1.0 - 2.0 * d_max / c.expected_side())) / 100,
+                          " or more --particles");
     mm::detail::require_non_negative(c.relax, "--relax", "give the relaxation time after T/2 in s");
     mm::detail::require_non_negative(c.mu, "--mu", "use 0 for frictionless particles");
     mm::detail::require_positive(c.kt_ratio, "--kt-ratio", "k_t / k must be > 0");
@@ -116,7 +146,23 @@ inline void validate(const Config& c) {
         throw_input_error("--local-damping ", c.local_damping, " is outside [0, 1); it is the fraction of each force component "
                           "taken against the motion (0.2 in YADE's examples)");
     mm::detail::require_non_negative(c.gamma_b_prepare, "--gamma-b-prepare", "use 0 for no background damping");
+    mm::detail::require_non_negative(c.mu_prepare, "--mu-prepare", "use 0 for frictionless particles while preparing");
+    // A drag gamma on the lightest particle takes gamma dt / m of its velocity per step; at 1 or
+    // more the explicit drag overshoots (the run would blow up and blame the time step).
+    const double m_min = mm::sphere_mass(c.density, c.radius_min);
+    for (const auto& [gamma, name] : {std::pair{c.gamma_b, "--gamma-b"}, std::pair{c.gamma_b_prepare, "--gamma-b-prepare"}})
+        if (gamma * dt / m_min >= 1.0)
+            throw_input_error(name, " ", gamma, " kg/s would take ", gamma * dt / m_min, " of the lightest particle's "
+                              "velocity per time step (mass ", m_min, " kg, dt = ", dt, " s), 1 or more: the drag overshoots; use ",
+                              name, " < ", 0.5 * m_min / dt, " (the defaults are 5e-2 and 1e-3)");
     mm::detail::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
+    {  // the controlled wall on one particle is an oscillator of sqrt(k (1/m_w + 1/m)) (see stable_time_step)
+        const double omega = std::sqrt(c.k * (1.0 / c.wall_mass + 1.0 / m_min));
+        if (omega * dt >= 2.0)
+            throw_input_error("--wall-mass ", c.wall_mass, " kg is too light for dt = ", dt, " s: the wall on a contact of "
+                              "stiffness k oscillates at omega dt = ", omega * dt, ", above the stable 2; use --wall-mass >= ",
+                              1.0 / (1.0 / (c.k * dt * dt) - 1.0 / m_min), " (the default is 1e-4)");
+    }
     mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
     mm::detail::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
     mm::detail::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");
@@ -124,6 +170,16 @@ inline void validate(const Config& c) {
         throw_input_error("--inner-margin ", c.inner_margin, " is outside [0, 0.5); it is the fraction of each side left out "
                           "next to each wall (the paper's 0.1)");
     mm::detail::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
+    const double loading = 0.5 * c.period + c.relax;
+    if (c.output_interval < dt)
+        throw_input_error("--output-interval ", c.output_interval, " s is shorter than the time step dt = ", dt,
+                          " s: rows cannot come more often than steps; use --output-interval >= ", dt);
+    if (c.output_interval > loading)
+        throw_input_error("--output-interval ", c.output_interval, " s is longer than the loading and relaxation (",
+                          loading, " s): the time series would have no row but the first; use --output-interval <= ", loading / 100);
+    if (loading / c.output_interval > 1e6)
+        throw_input_error("--output-interval ", c.output_interval, " s gives ", loading / c.output_interval,
+                          " rows (about 2 kB each), more than 1e6; use --output-interval >= ", loading / 1e6);
     if (!(c.radius_min > 0.0 && c.radius_max >= c.radius_min))
         throw_input_error("radii [", c.radius_min, ", ", c.radius_max, "] are invalid; need 0 < min <= max");
     c.contact_duration();  // throws for an overdamped contact

@@ -8,6 +8,7 @@
 // output interval of the loading) into --out. Run with --help for every option and its unit.
 #include <unistd.h>
 
+#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -391,8 +393,7 @@ int run(const Config& c, Plan plan) {
     // Inertial number I = (d eps/dt) d sqrt(rho / p) at the peak rate of Eq. 17, eps_f pi / T, with
     // the mean diameter d; in 2D rho is the sphere mass per disk area, 4/3 rho a.
     const double peak_rate = c.final_strain * M_PI / c.period;
-    const double rho_2d = 4.0 / 3.0 * c.density * c.mean_radius();
-    const double inertial = peak_rate * 2.0 * c.mean_radius() * std::sqrt((dim == 2 ? rho_2d : c.density) / c.pressure);
+    const double inertial = c.inertial_number();
     // Drag of the background damping on the column moved by the top wall, against the side
     // pressure times the box side: the mean particle moves at half the top wall's peak speed.
     const auto box = exp.reference_box();
@@ -533,7 +534,19 @@ int main(int argc, char** argv) {
         auto set = [](CLI::Option* o, auto& field) {
             if (o->count()) field = o->as<std::decay_t<decltype(field)>>();
         };
-        set(particles, c.particles);
+        // Counts and seeds are whole numbers >= 0 as typed: "-5" or "1e19" is refused, not wrapped.
+        auto set_whole = [](CLI::Option* o, auto& field, unsigned long long least) {
+            if (!o->count()) return;
+            const std::string text = o->as<std::string>();
+            unsigned long long v = 0;
+            const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+            if (error != std::errc() || end != text.data() + text.size() || v < least ||
+                v > std::numeric_limits<std::decay_t<decltype(field)>>::max())
+                micromacro::detail::throw_input_error(o->get_name(), " '", text, "' is not a whole number from ", least, " to ",
+                                                      std::numeric_limits<std::decay_t<decltype(field)>>::max());
+            field = static_cast<std::decay_t<decltype(field)>>(v);
+        };
+        set_whole(particles, c.particles, 0);
         set(pressure, c.pressure);
         set(mu, c.mu);
         set(mup, c.mu_prepare);
@@ -542,7 +555,7 @@ int main(int argc, char** argv) {
         set(strain, c.final_strain);
         set(relax, c.relax);
         set(dtf, c.dt_fraction);
-        set(seed, c.seed);
+        set_whole(seed, c.seed, 0);
         set(damping, c.damping);
         if (c.damping == "lab") c.gamma_b = 1e-4;  // Eq. 30's weak damping unless --gamma-b says otherwise: strong lab damping drags the flow
         set(gb, c.gamma_b);

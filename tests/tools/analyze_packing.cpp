@@ -160,7 +160,18 @@ BOOST_AUTO_TEST_CASE(bad_inputs_name_file_and_line) {
          "", "count.dump:8: ITEM: NUMBER OF ATOMS says 2, the file holds 1"},
         {"noatoms.dump", "ITEM: TIMESTEP\n0\n", "--format lammps", "noatoms.dump:2: no ITEM: ATOMS section"},
         {"ok.csv", "x,z,r\n0,0,1e-3\n", "--rule nearest", "--rule 'nearest' is unknown"},
-        {"ok2.csv", "x,z,r\n0,0,1e-3\n", "--periodic q --box 0 1 0 1", "periodic axes 'q': unknown axis 'q'; in 2D name them from x, z"},
+        {"ok2.csv", "x,z,r\n0,0,1e-3\n2e-3,0,1e-3\n", "--periodic q --box 0 1 0 1", "periodic axes 'q': unknown axis 'q'; in 2D name them from x, z"},
+        // A 3D file read as 2D, in either format: refused, not read without y.
+        {"three.csv", "x,y,z,r\n0,0,0,1e-3\n1.9e-3,0,0,1e-3\n0,1.9e-3,0,1e-3\n", "--dim 2",
+         "three.csv:1: the header names a y column: a 3D packing, read as 2D"},
+        {"three.dump", "ITEM: ATOMS id x y z radius\n1 0 0 0 1e-3\n2 0 0 1.9e-3 1e-3\n", "--dim 2",
+         "three.dump:3: z = 1.9e-3 differs from the first atom's"},
+        {"semicolons.csv", "x;z;r\n0;0;1e-3\n", "", "semicolons.csv:1: the header is separated by ';', not commas"},
+        {"tabs.csv", "x\tz\tr\n0\t0\t1e-3\n", "", "tabs.csv:1: the header is separated by tabs"},
+        // Results that cannot be: one particle's own extent as the box, and overflow.
+        {"one.csv", "x,z,r\n0,0,1e-3\n", "", "one.csv holds one particle; averages need a packing"},
+        {"huge.csv", "x,z,r\n0,0,1e300\n1,0,1e300\n", "", "is not finite: the file's values overflow"},
+        {"huge_id.csv", "id,x,z,r\n1e300,0,0,1e-3\n", "", "huge_id.csv:2: column 'id': '1e300' is not a whole number"},
     };
     for (const auto& c : cases) {
         const auto path = write(c.name, c.text);
@@ -178,4 +189,15 @@ BOOST_AUTO_TEST_CASE(bad_inputs_name_file_and_line) {
     BOOST_TEST(run(write("ok4.csv", "x,z,r\n0,0,1e-3\n2e-3,0,1e-3\n") + " -o " + out).status == 0);
     BOOST_TEST(nlohmann::json::parse(std::ifstream(out))["particles"].get<int>() >= 0);
     BOOST_TEST(run(write("ok5.csv", "x,z,r\n0,0,1e-3\n") + " -o /nonexistent/dir/result.json").status != 0);
+    // The input is never overwritten, and a full standard output is an error, not exit 0.
+    const std::string input = write("ok6.csv", "x,z,r\n0,0,1e-3\n2e-3,0,1e-3\n");
+    const auto onto = run(input + " -o " + input);
+    BOOST_TEST(onto.exit_code() == 1);
+    BOOST_TEST(onto.err.find("is the input") != std::string::npos, onto.err);
+    BOOST_TEST(mmtest::slurp(input) == "x,z,r\n0,0,1e-3\n2e-3,0,1e-3\n");
+    const auto full = mmtest::run_program("sh -c '" + std::string(ANALYZE_PACKING) + " " + input + " > /dev/full'", "", work);
+    BOOST_TEST(full.exit_code() == 1);
+    BOOST_TEST(full.err.find("cannot write to standard output") != std::string::npos, full.err);
+    // A UTF-8 byte-order mark (spreadsheet exports) is not part of the first column's name.
+    BOOST_TEST(run(write("bom.csv", "\xef\xbb\xbfx,z,r\n0,0,1e-3\n2e-3,0,1e-3\n")).status == 0);
 }

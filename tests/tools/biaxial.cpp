@@ -10,12 +10,14 @@
 #include <map>
 #include <numbers>
 #include <numeric>
+#include <random>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "biaxial/quality.hpp"
 #include "biaxial/timeseries.hpp"
+#include "support/mutate.hpp"
 #include "support/programs.hpp"
 
 namespace fs = std::filesystem;
@@ -294,6 +296,20 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         {"--dt-fraction 2", "--dt-fraction 2 is too small"},
         {"--particles 1", "--particles 1 is too few"},
         {"--frobnicate 3", "frobnicate"},
+        // Counts and seeds as typed, not wrapped; limits that name the option and the fix.
+        {"--particles -5", "--particles '-5' is not a whole number"},
+        {"--particles 1e19", "--particles '1e19' is not a whole number"},
+        {"--particles 200000000", "beyond this program's 1e8"},
+        {"--seed -1", "--seed '-1' is not a whole number"},
+        {"--output-interval 1e9", "s is longer than the loading and relaxation"},
+        {"--output-interval 1e-12", "is shorter than the time step"},
+        {"--preset paper --output-interval 5e-7", "more than 1e6; use --output-interval >="},
+        {"--period 1e-9", "--period 1e-09 s loads at an inertial number of"},
+        {"--final-strain 0.999999", "less than 2 of the largest particles"},
+        {"--gamma-b 1e3", "--gamma-b 1000 kg/s would take"},
+        {"--gamma-b-prepare 1e3", "--gamma-b-prepare 1000 kg/s would take"},
+        {"--wall-mass 1e-30", "--wall-mass 1e-30 kg is too light"},
+        {"--mu-prepare -0.1", "--mu-prepare = -0.1 is invalid"},
     };
     for (const auto& c : cases) {
         const auto dir = work / "bad";
@@ -415,4 +431,33 @@ BOOST_AUTO_TEST_CASE(quality_of_a_known_series) {
         values = thinned;
     }
     BOOST_TEST(std::isnan(biaxial::loading_quality(sparse, 2, p, final_strain).roughness_sigma_zz));
+}
+
+// The time-series reader (biaxial_summary, plot_timeseries, the quality figures) under random
+// damage, as the library's readers in tests/unit/fuzz_readers.cpp: every damaged file is refused
+// with a message naming the file, or read into columns of equal length holding finite numbers.
+BOOST_AUTO_TEST_CASE(damaged_time_series_are_refused_or_read_validly) {
+    const std::string series = "# run 0123456789abcdef\n# units: time s\ntime,strain_22,sigma_22\n0,0,20\n0.001,1e-3,20.5\n"
+                               "0.002,2e-3,21.25\n0.003,3e-3,2.2e1\n";
+    std::mt19937_64 rng(20261202);
+    fs::create_directories(work);
+    const fs::path file = work / "fuzz.csv";
+    int refused = 0;
+    for (int m = 0; m < 3000; ++m) {
+        const std::string text = mmtest::mutate(series, rng);
+        std::ofstream(file, std::ios::binary) << text;
+        try {
+            const auto columns = biaxial::read_timeseries(file.string());
+            std::size_t rows = columns.empty() ? 0 : columns.begin()->second.size();
+            for (const auto& [name, values] : columns) {
+                BOOST_TEST(values.size() == rows, "mutation " << m << ": column " << name << "\n" << text);
+                for (double v : values) BOOST_TEST(std::isfinite(v), "mutation " << m << "\n" << text);
+            }
+        } catch (const std::runtime_error& e) {
+            ++refused;
+            BOOST_TEST(std::string(e.what()).find(file.string()) == 0, e.what());
+        }
+    }
+    BOOST_TEST_MESSAGE(refused << " of 3000 damaged time series refused, the rest read validly");
+    BOOST_TEST(refused > 1000);
 }

@@ -5,6 +5,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <filesystem>
+#include <fstream>
 
 #include <micromacro/io/vtk.hpp>
 #include <vtkImageData.h>
@@ -80,4 +81,32 @@ BOOST_AUTO_TEST_CASE(no_display_is_a_clear_error) {
     BOOST_TEST(r.status != 0);
     BOOST_TEST(r.err.find("run under xvfb-run") != std::string::npos, r.err);
     BOOST_TEST(!fs::exists(dir / "q.png"));
+}
+
+// Damaged input is refused, not drawn in part: a particles file cut short, a walls file of
+// garbage, a .pvd collection cut before its end. No picture is written.
+BOOST_AUTO_TEST_CASE(damaged_files_are_refused) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_test";
+    BOOST_TEST_REQUIRE(fs::exists(dir / "p.vtp"));  // from colours_at_the_centres
+    const std::string whole = mmtest::slurp(dir / "p.vtp");
+    std::ofstream(dir / "cut.vtp", std::ios::binary) << whole.substr(0, whole.size() * 2 / 3);
+    std::ofstream(dir / "walls.vtp", std::ios::binary) << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PolyData\"> garbage";
+    std::ofstream(dir / "cut.pvd") << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n"
+                                      "    <DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"p.vtp\"/>\n";
+    struct Case {
+        std::string args, expect;
+    };
+    const Case cases[] = {
+        {(dir / "cut.vtp").string(), "cut.vtp is damaged or truncated"},
+        {(dir / "p.vtp").string() + " --walls " + (dir / "walls.vtp").string(), "walls.vtp is damaged or truncated"},
+        {(dir / "cut.pvd").string(), "cut.pvd is truncated"},
+    };
+    for (const auto& c : cases) {
+        fs::remove(dir / "damaged.png");
+        const auto r = mmtest::run_program(std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + RENDER_SNAPSHOT,
+                                           c.args + " -o " + (dir / "damaged.png").string(), dir);
+        BOOST_TEST(r.exit_code() == 1, c.args);
+        BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.args << ": " << r.err);
+        BOOST_TEST(!fs::exists(dir / "damaged.png"), c.args);
+    }
 }

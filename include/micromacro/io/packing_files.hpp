@@ -71,6 +71,14 @@ inline double number(const std::string& text, const std::string& path, std::size
     return v;
 }
 
+/// A whole number (an id, a count) from a field: integral and within +-2^53, where doubles count exactly.
+inline long long whole_number(const std::string& text, const std::string& path, std::size_t line, const std::string& column) {
+    const double v = number(text, path, line, column);
+    if (v != std::floor(v) || std::abs(v) > 9007199254740992.0)
+        fail(path, line, "column '" + column + "': '" + text + "' is not a whole number within +-2^53");
+    return static_cast<long long>(v);
+}
+
 inline std::ifstream open(const std::string& path) {
     std::ifstream in(path);
     if (!in) fail(path, 0, "cannot open the file for reading");
@@ -87,9 +95,15 @@ void read_csv_rows(const std::string& path, Header&& header, Row&& row) {
     while (std::getline(in, text)) {
         ++line;
         if (!text.empty() && text.back() == '\r') text.pop_back();
+        if (line == 1 && text.rfind("\xef\xbb\xbf", 0) == 0) text.erase(0, 3);  // a UTF-8 byte-order mark
         const auto first = text.find_first_not_of(" \t");
         if (first == std::string::npos || text[first] == '#') continue;
         const auto fields = split(text, ',');
+        if (columns == 0 && fields.size() == 1)
+            for (const char separator : {';', '\t', ' '})
+                if (text.find(separator) != std::string::npos)
+                    fail(path, line, std::string("the header is separated by ") + (separator == ';' ? "';'" : separator == '\t' ? "tabs" : "spaces") +
+                                         ", not commas; save the file as comma-separated CSV");
         if (columns == 0) {
             columns = fields.size();
             header(fields, line);
@@ -133,8 +147,7 @@ void add_particle(PackingFile<dim>& f, const std::vector<std::string>& fields, c
     if (!(r > 0.0)) fail(path, line, "radius " + fields[radius_column] + " is not positive; every particle needs a radius > 0");
     f.position.push_back(x);
     f.radius.push_back(r);
-    f.id.push_back(id_column >= 0 ? static_cast<long long>(number(fields[id_column], path, line, "id"))
-                                  : static_cast<long long>(f.id.size()));
+    f.id.push_back(id_column >= 0 ? whole_number(fields[id_column], path, line, "id") : static_cast<long long>(f.id.size()));
     f.line.push_back(line);
 }
 
@@ -181,6 +194,9 @@ PackingFile<dim> read_csv(const std::string& path) {
         path,
         [&](const std::vector<std::string>& header, std::size_t line) {
             names = header;
+            if (dim == 2 && std::find(names.begin(), names.end(), "y") != names.end())
+                detail::fail(path, line, "the header names a y column: a 3D packing, read as 2D (2D files have x and z); "
+                                         "read it in 3D (analyze_packing --dim 3)");
             detail::locate<dim>(names, csv_coordinates<dim>(), columns, radius_column, radius_factor, id_column, path, line);
         },
         [&](const std::vector<std::string>& fields, std::size_t line) {
@@ -201,6 +217,7 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
     std::array<int, dim> columns{};
     int radius_column = -1, id_column = -1;
     double radius_factor = 1.0;
+    [[maybe_unused]] double first_z = 0.0;  // 2D: every atom at the first one's z
     auto next = [&] {
         if (!std::getline(in, text)) detail::fail(path, line, "the file ends early");
         ++line;
@@ -213,7 +230,10 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
             if (in_atoms) break;  // the next snapshot: only the first is read
             if (text.rfind("ITEM: NUMBER OF ATOMS", 0) == 0) {
                 next();
-                expected = static_cast<std::size_t>(detail::number(detail::split(text, ' ').at(0), path, line, "number of atoms"));
+                const auto count = detail::split(text, ' ');
+                const long long n = detail::whole_number(count.empty() ? std::string() : count[0], path, line, "number of atoms");
+                if (n < 0) detail::fail(path, line, "a negative number of atoms, " + count[0]);
+                expected = static_cast<std::size_t>(n);
                 have_count = true;
             } else if (text.rfind("ITEM: BOX BOUNDS", 0) == 0) {
                 const auto flags = detail::split(text.substr(16), ' ');
@@ -247,6 +267,17 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
         if (fields.size() != names.size())
             detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, ITEM: ATOMS names " + std::to_string(names.size()));
         detail::add_particle<dim>(f, fields, columns, radius_column, radius_factor, id_column, names, path, line);
+        if constexpr (dim == 2) {  // LAMMPS's 2D plane is x-y, at one z
+            const auto z = std::find(names.begin(), names.end(), "z");
+            if (z != names.end()) {
+                const double value = detail::number(fields[z - names.begin()], path, line, "z");
+                if (f.position.size() == 1) first_z = value;
+                else if (value != first_z)
+                    detail::fail(path, line, "z = " + fields[z - names.begin()] + " differs from the first atom's " +
+                                                 std::to_string(first_z) + ": a 3D packing, read as 2D; read it in 3D "
+                                                 "(analyze_packing --dim 3)");
+            }
+        }
     }
     if (line == 0) detail::fail(path, 0, "the file is empty");
     if (!in_atoms) detail::fail(path, line, "no ITEM: ATOMS section: not a LAMMPS dump");
@@ -366,8 +397,8 @@ std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path
         },
         [&](const std::vector<std::string>& fields, std::size_t line) {
             ContactForceRecord<dim> r;
-            r.i = static_cast<long long>(detail::number(fields[columns[0]], path, line, "i"));
-            r.j = static_cast<long long>(detail::number(fields[columns[1]], path, line, "j"));
+            r.i = detail::whole_number(fields[columns[0]], path, line, "i");
+            r.j = detail::whole_number(fields[columns[1]], path, line, "j");
             for (int a = 0; a < dim; ++a) r.tangential_force[a] = detail::number(fields[columns[a + 2]], path, line, wanted[a + 2]);
             r.line = line;
             out.push_back(r);
