@@ -3,7 +3,7 @@
 # AddressSanitizer and UndefinedBehaviorSanitizer in build-sanitize: a memory error, a leak or
 # undefined behaviour stops the test that hit it. Left out: the benchmarks (their timings mean
 # nothing here), the pictures (VTK's OpenGL under Xvfb), the compile-fail and package checks
-# (nothing runs). .ci/run calls this; about 15 minutes on two cores.
+# (nothing runs).
 #   scripts/sanitize.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
