@@ -257,7 +257,7 @@ void plan_from_json(const nlohmann::ordered_json& j, Plan& p) {
 }
 
 template <int dim>
-int run(const Config& c, Plan plan) {
+int run(const Config& c, const Plan& plan) {
     const bool terminal = !plan.quiet && isatty(STDOUT_FILENO);
     const auto wall_start = std::chrono::steady_clock::now();
     const std::string started = now_iso();
