@@ -70,9 +70,9 @@ struct Config {
         double v = 0.0;  // mean particle volume (per unit depth in 2D), radii uniform in [min, max]
         for (int b = 0; b < 1000; ++b) {
             const double a = radius_min + (radius_max - radius_min) * (b + 0.5) / 1000;
-            v += (dim == 2 ? M_PI * a * a : 4.0 / 3.0 * M_PI * a * a * a) / 1000;
+            v += (dim == 2 ? mm::DimTraits<2>::particle_volume(a) : mm::DimTraits<3>::particle_volume(a)) / 1000;
         }
-        return std::pow(double(particles) * v / (dim == 2 ? 0.84 : 0.64), 1.0 / dim);
+        return std::pow(particles * v / (dim == 2 ? 0.84 : 0.64), 1.0 / dim);
     }
     /// The inertial number I = (d eps/dt) d sqrt(rho / p) at the peak rate of Eq. 17, eps_f pi / T, with
     /// the mean diameter d; in 2D rho is the sphere mass per disk area, 4/3 rho a.
@@ -218,14 +218,7 @@ public:
 
     /// Places the particles and walls of the preparation.
     void build() {
-        const double mean_volume = [&] {
-            double v = 0.0;
-            for (int b = 0; b < 1000; ++b)
-                v += mm::DimTraits<dim>::particle_volume(c_.radius_min + (c_.radius_max - c_.radius_min) * (b + 0.5) / 1000) / 1000;
-            return v;
-        }();
-        const double dense = dim == 2 ? 0.84 : 0.64;
-        const double L = c_.box_factor * std::pow(c_.particles * mean_volume / dense, 1.0 / dim);
+        const double L = c_.box_factor * c_.expected_side();
         std::mt19937_64 rng(c_.seed);
         std::uniform_real_distribution<double> U(0.0, 1.0);
         auto& p = sim_.particles();

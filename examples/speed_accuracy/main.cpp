@@ -510,18 +510,20 @@ int main(int argc, char** argv) {
         for (std::size_t i = 1; i < variants.size();) {
             const std::string group = variants[i].group;
             std::vector<std::string> from_ref, from_default, stopped;
+            bool any_ran = false;
             for (; i < variants.size() && variants[i].group == group; ++i) {
                 if (!results[i].failure.empty()) {
                     stopped.push_back(variants[i].label);
                     continue;
                 }
+                any_ran = true;
                 if (const auto w = which(results[i], ref); !w.empty()) from_ref.push_back(variants[i].label + " (" + w + ")");
                 if (i == 1) continue;
                 if (const auto w = which(results[i], fallback); !w.empty()) from_default.push_back(variants[i].label + " (" + w + ")");
             }
             md << "- **" << group << "**: ";
             if (!stopped.empty()) md << "Stopped: " << list(stopped) << ".";
-            if (stopped.size() < static_cast<std::size_t>(std::count_if(variants.begin(), variants.end(), [&](const Variant& v) { return v.group == group; }))) {
+            if (any_ran) {
                 md << (stopped.empty() ? "" : " ") << "From the reference: " << list(from_ref) << ".";
                 if (group != "default") md << " From the default: " << list(from_default) << ".";
             }
