@@ -121,11 +121,11 @@ int main(int argc, char** argv) {
     app.add_option("--kt-ratio", kt_ratio, "k_t / k to scale C^t")->capture_default_str();
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
-        viz::require_display("plot_timeseries");
         const auto [width, height] = viz::parse_size(size);
         if (!fs::is_regular_file(input)) fail("cannot read " + input + ": no such file");
         const auto col = biaxial::read_timeseries(input);
         if (col.empty() || !col.count("time")) fail(input + " is not a biaxial time series (no time column)");
+        viz::require_display("plot_timeseries");  // after the input: a bad file is said first
         const bool three = col.count("strain_33") > 0;
         const std::string z = three ? "3" : "2";
         const std::string zz = z + z;

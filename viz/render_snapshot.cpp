@@ -118,7 +118,6 @@ int main(int argc, char** argv) {
     app.add_flag("--3d", three_d, "draw spheres with lighting (default: flat disks in the plane z = 0)");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
-        viz::require_display("render_snapshot");
         const auto [width, height] = viz::parse_size(size);
         const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
         if (!fs::is_directory(out_dir)) fail("cannot write " + output + ": the directory " + out_dir.string() + " does not exist");
@@ -127,6 +126,7 @@ int main(int argc, char** argv) {
         auto* energy = particles->GetPointData()->GetArray("potential_energy");
         auto* radius = particles->GetPointData()->GetArray("radius");
         if (!energy || !radius) fail(input + " has no potential_energy or radius array");
+        viz::require_display("render_snapshot");  // after the input: a bad file is said first
         double range[2];
         energy->GetRange(range);
         if (range[1] <= range[0]) range[1] = range[0] + 1e-300;

@@ -39,6 +39,10 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "%s", usage.c_str());
         return 1;
     }
+    if (argv[1][0] == '-') {
+        std::fprintf(stderr, "biaxial_summary: unknown option %s\n%s", argv[1], usage.c_str());
+        return 1;
+    }
     try {
         return summarise(argv[1]);
     } catch (const std::exception& e) {

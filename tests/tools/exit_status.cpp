@@ -1,0 +1,75 @@
+// The README's promise for every program of this build ("Errors and exit status"): --help prints
+// the usage and exits 0; an unknown option exits 1 with a message; an input that is not there
+// exits 1 (01_two_particles: 2) with a message naming it, and writes nothing.
+#define BOOST_TEST_MODULE exit status of every program
+#include <boost/test/unit_test.hpp>
+
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include "programs_built.hpp"
+#include "support/programs.hpp"
+
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path work = fs::temp_directory_path() / "micromacro_exit_status";
+const std::string missing = "/nonexistent_micromacro_input";
+
+struct Expectation {
+    std::string missing_input_args;  ///< arguments that name an input that is not there
+    int error_status = 1;
+};
+
+// For each program, how it is handed an input that does not exist (an output folder or file in
+// `work` where it needs one, so that only the input can be at fault).
+std::map<std::string, Expectation> expectations() {
+    const std::string out = (work / "out").string();
+    return {
+        {"biaxial", {"--quiet --from-prepared " + missing + "/prepared.state --out " + out}},
+        {"biaxial_summary", {missing + "/run"}},
+        {"analyze_packing", {missing + "/packing.csv"}},
+        {"speed_accuracy", {"--seeds 0 --out-dir " + out}},  // reads no file: an absurd count instead
+        {"oblique_impacts", {"--out " + missing + "/oblique.md"}},  // reads no file: an unwritable output
+        {"01_two_particles", {"notanumber", 2}},
+        {"throughput", {"--packing " + missing + "/packing.csv"}},
+        {"render_snapshot", {missing + "/particles_0.vtp -o " + (work / "picture.png").string()}},
+        {"plot_timeseries", {missing + "/timeseries.csv --out " + (work / "plots").string()}},
+    };
+}
+
+}  // namespace
+
+BOOST_AUTO_TEST_CASE(every_program_keeps_the_promise) {
+    const auto table = expectations();
+    BOOST_TEST(std::size(programs_built) >= 6u);  // the CLI11 programs are always built with the tests
+    for (const auto& [name, path] : programs_built) {
+        BOOST_TEST_CONTEXT(name) {
+            BOOST_REQUIRE(table.count(name) == 1u);
+            const Expectation& e = table.at(name);
+            fs::remove_all(work);
+
+            const auto help = mmtest::run_program(path, "--help", work);
+            BOOST_TEST(help.exit_code() == 0);
+            BOOST_TEST((help.out.find("sage") != std::string::npos), help.out);  // "Usage" / "usage"
+
+            if (std::string(name) != "01_two_particles") {  // takes no options
+                const auto unknown = mmtest::run_program(path, "--no-such-option", work);
+                BOOST_TEST(unknown.exit_code() == 1);
+                BOOST_TEST(!unknown.err.empty());
+            }
+
+            const auto bad = mmtest::run_program(path, e.missing_input_args, work);
+            BOOST_TEST(bad.exit_code() == e.error_status, bad.err);
+            BOOST_TEST(!bad.err.empty());
+            const bool names_it = bad.err.find(missing) != std::string::npos || bad.err.find("--seeds") != std::string::npos ||
+                                  bad.err.find("notanumber") != std::string::npos;
+            BOOST_TEST(names_it, bad.err);
+            BOOST_TEST(!fs::exists(work / "out"));  // nothing written
+            BOOST_TEST(!fs::exists(work / "picture.png"));
+            BOOST_TEST(!fs::exists(work / "plots"));
+        }
+    }
+}
