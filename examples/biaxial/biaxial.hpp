@@ -163,6 +163,29 @@ inline void validate(const Config& c) {
                               "stiffness k oscillates at omega dt = ", omega * dt, ", above the stable 2; use --wall-mass >= ",
                               1.0 / (1.0 / (c.k * dt * dt) - 1.0 / m_min), " (the default is 1e-4)");
     }
+    {  // the tangential spring between the two lightest particles, turning (the engine's stable_time_step)
+        const double mobility = 2.0 * 3.5 / m_min;  // 1/m + a^2/I per particle, I = 2/5 m a^2
+        const double limit = mm::VelocityVerlet::stability_limit(std::sqrt(c.kt_ratio * c.k * mobility),
+                                                                0.5 * c.gammat_ratio * c.gamma0 * mobility);
+        if (dt > limit)
+            throw_input_error("--kt-ratio ", c.kt_ratio, " makes the tangential spring too stiff for dt = ", dt,
+                              " s: between the two lightest particles it is stable up to dt = ", limit, " s; use --kt-ratio <= ",
+                              c.kt_ratio * (limit / dt) * (limit / dt), " or --dt-fraction >= ", c.dt_fraction * dt / limit,
+                              " (the paper's k_t / k is 0.2)");
+    }
+    {  // a wall so heavy that p A cannot move it across the box within the preparation's time
+        const double L = c.box_factor * c.expected_side(), area = std::pow(L, c.dim - 1);
+        const double crossing = std::sqrt(2.0 * 0.5 * L * c.wall_mass / (c.pressure * area));  // from rest, no damping
+        const double allowed = c.max_prepare_time > 0 ? c.max_prepare_time : 50.0 * L / c.wall_speed_prepare();
+        if (crossing > allowed)
+            throw_input_error("--wall-mass ", c.wall_mass, " kg is too heavy: pushed by p A alone it needs ", crossing,
+                              " s to close the box, longer than the preparation's ", allowed, " s; use --wall-mass <= ",
+                              c.wall_mass * (allowed / crossing) * (allowed / crossing) / 4, " (the default is 1e-4)");
+    }
+    if (const double steps = (0.5 * c.period + c.relax) / dt; steps > 1e9)
+        throw_input_error("--dt-fraction ", c.dt_fraction, " gives dt = ", dt, " s and ", steps, " steps for the loading alone, "
+                          "more than 1e9 (days of computing); use --dt-fraction <= ", c.dt_fraction * 1e9 / steps,
+                          " (the paper's is 50)");
     mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
     mm::detail::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
     mm::detail::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");

@@ -24,6 +24,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <algorithm>
 #include <numeric>
@@ -129,8 +130,16 @@ int run(const Options& o, const Law& law, const char* law_name) {
     }
     // Two particles of the mean radius set t_c (Eq. 22), as in the paper and the biaxial example.
     const double mean_radius = std::accumulate(r.begin(), r.end(), 0.0) / double(r.size());
-    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(o.density, mean_radius));
+    const double mean_mass = mm::sphere_mass(o.density, mean_radius);
+    if (!(std::isfinite(mean_mass) && mean_mass > 0.0))
+        mm::detail::throw_input_error("--density ", o.density, " kg/m^3 gives a particle of the mean radius ", mean_radius,
+                                      " m a mass of ", mean_mass, " kg; give a density that makes it finite and > 0 (2000 for glass)");
+    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mean_mass);
     const double dt = o.dt > 0.0 ? o.dt : tc / o.dt_fraction;
+    if (!(std::isfinite(tc) && tc > 0.0 && std::isfinite(dt) && dt > 0.0))
+        mm::detail::throw_input_error("--k ", o.k, " N/m with --density ", o.density, " kg/m^3 gives a contact duration t_c = ", tc,
+                                      " s and dt = ", dt, " s (", o.dt > 0.0 ? "--dt" : "t_c / --dt-fraction",
+                                      "), not finite and > 0; give values of a real material (k = 1e5 N/m, density 2000 kg/m^3)");
     mm::BasicSimulation<dim, Real, Law> sim(law, domain);
     sim.set_threads(o.threads);
     sim.set_track_energy(o.track_energy);
@@ -149,7 +158,8 @@ int run(const Options& o, const Law& law, const char* law_name) {
     if (const double limit = sim.stable_time_step(); dt > limit)  // said in the program's terms, not the engine's
         mm::detail::throw_input_error("time step dt = ", dt, " s (", o.dt > 0.0 ? "--dt" : "t_c / --dt-fraction",
                                       ") exceeds the stability limit ", limit,
-                                      " s of the lightest particles' contact; give --dt below it or a larger --dt-fraction");
+                                      " s of the lightest particles' contact (set by --k, --kt, their dampings and the "
+                                      "masses); give --dt below it, a larger --dt-fraction or a softer --kt");
     sim.prepare();
     const std::size_t contacts = sim.contact_count();
     const auto start = std::chrono::steady_clock::now();

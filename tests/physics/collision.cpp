@@ -4,6 +4,8 @@
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <limits>
+#include <utility>
 
 #include "support/scenes.hpp"
 
@@ -106,4 +108,17 @@ BOOST_AUTO_TEST_CASE(stability_limits_are_sharp) {
     }
     BOOST_TEST(std::abs(mm::VelocityVerlet::stability_limit(1.0, 0.0) - 2.0) < 1e-15);
     BOOST_TEST(std::abs(mm::VelocityVerlet::stability_limit(1.0, 0.5) - 2.0 * (std::sqrt(2.0) - 1.0)) < 1e-15);
+    // Strong damping, where the textbook form 2 (sqrt(4 eta^2 + omega^2) - 2 eta) / omega^2 cancels:
+    // the limit tends to 1 / (2 eta) for Verlet and 1 / eta for symplectic Euler.
+    BOOST_TEST(mm::VelocityVerlet::stability_limit(1.0, 1e9) == 0.5e-9, boost::test_tools::tolerance(1e-12));
+    BOOST_TEST(mm::SymplecticEuler::stability_limit(1.0, 1e9) == 1e-9, boost::test_tools::tolerance(1e-12));
+    // An overflowing stiffness or damping leaves nothing stable: 0, not NaN (which every dt <= limit
+    // test would pass).
+    const double inf = std::numeric_limits<double>::infinity();
+    for (auto [omega, eta] : {std::pair{inf, 0.0}, std::pair{1.0, inf}}) {
+        BOOST_TEST(mm::VelocityVerlet::stability_limit(omega, eta) == 0.0);
+        BOOST_TEST(mm::SymplecticEuler::stability_limit(omega, eta) == 0.0);
+    }
+    // A frequency whose square overflows still has its limit 2 / omega.
+    BOOST_TEST(mm::VelocityVerlet::stability_limit(1e160, 0.0) == 2e-160, boost::test_tools::tolerance(1e-12));
 }

@@ -310,6 +310,9 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         {"--gamma-b-prepare 1e3", "--gamma-b-prepare 1000 kg/s would take"},
         {"--wall-mass 1e-30", "--wall-mass 1e-30 kg is too light"},
         {"--mu-prepare -0.1", "--mu-prepare = -0.1 is invalid"},
+        {"--wall-mass 1e300", "kg is too heavy: pushed by p A alone it needs"},
+        {"--kt-ratio 1e10", "--kt-ratio 1e+10 makes the tangential spring too stiff"},
+        {"--dt-fraction 1e300", "steps for the loading alone, more than 1e9"},
     };
     for (const auto& c : cases) {
         const auto dir = work / "bad";

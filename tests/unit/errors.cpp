@@ -63,6 +63,10 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(time_step_above_stability_limit, D, Dims) {
     sim.prepare();  // fine
     expect_error([&] { sim.set_time_step(-1.0); }, {"time step dt = -1"});
     expect_error([&] { sim.set_time_step(not_a_number); }, {"time step dt = nan"});
+    // A tangential stiffness whose oscillation overflows: no dt is stable (its limit is 0, not NaN).
+    sim.law().tangential = mm::CundallStrack(1e308, 0.2 * gamma0, 0.5);
+    BOOST_TEST(sim.stable_time_step() == 0.0);
+    expect_error([&] { sim.prepare(); }, {"exceeds the stability limit 0 s"});
 }
 
 BOOST_AUTO_TEST_CASE(missing_time_step) {

@@ -43,8 +43,11 @@ struct VelocityVerlet {
     }
     /// Largest stable dt for x'' = -omega0^2 x - 2 eta x' (derived from det(M + 1) = 0 of the
     /// one-step map; with the predicted velocity the damping acts like 2 eta of the plain scheme).
+    /// Written as 2 / (sqrt(4 eta^2 + omega0^2) + 2 eta), the same number without the cancellation
+    /// of 2 (sqrt(...) - 2 eta) / omega0^2: it holds for omega0 = 0 and is 0, never NaN, when a
+    /// stiffness or damping overflows.
     static double stability_limit(double omega0, double eta) {
-        return 2.0 * (std::sqrt(4.0 * eta * eta + omega0 * omega0) - 2.0 * eta) / (omega0 * omega0);
+        return 2.0 / (std::hypot(2.0 * eta, omega0) + 2.0 * eta);
     }
 };
 
@@ -65,7 +68,7 @@ struct SymplecticEuler {
     }
     /// Largest stable dt for x'' = -omega0^2 x - 2 eta x'.
     static double stability_limit(double omega0, double eta) {
-        return 2.0 * (std::sqrt(eta * eta + omega0 * omega0) - eta) / (omega0 * omega0);
+        return 2.0 / (std::hypot(eta, omega0) + eta);  // = 2 (sqrt(eta^2 + omega0^2) - eta) / omega0^2, as above
     }
 };
 
