@@ -470,7 +470,7 @@ int main(int argc, char** argv) {
                    "write DIR/checkpoint.state every this many simulated seconds of the loading (0: never)")
         ->capture_default_str();
     app.add_option("--threads", plan.threads, "threads (OpenMP); the same count gives the same bits")->capture_default_str();
-    app.add_option("--vtk-every", plan.vtk_every_rows, "write VTK frames (vtk/*.vtp, *.pvd) every this many rows (0: none)")
+    auto* vtk_every = app.add_option("--vtk-every", plan.vtk_every_rows, "write VTK frames (vtk/*.vtp, *.pvd) every this many rows (0: none)")
         ->capture_default_str();
     app.add_option("--stop-after-rows", plan.stop_after_rows, "testing restarts: die after this many rows, as a kill would")
         ->group("");  // hidden
@@ -509,6 +509,14 @@ int main(int argc, char** argv) {
         if (out.empty() && resume.empty()) micromacro::detail::throw_input_error("give --out DIR (or --resume DIR)");
         plan.quiet = quiet;
         plan.pictures = !no_pictures;
+#ifndef MICROMACRO_HAVE_VTK  // a build without VTK writes no frames, and says so when asked for them
+        if (vtk_every->count() && plan.vtk_every_rows > 0)
+            micromacro::detail::throw_input_error("--vtk-every ", plan.vtk_every_rows, " asks for VTK frames, but this biaxial was "
+                                                  "built without VTK (install libvtk9-dev and build again); use --vtk-every 0");
+        if (resume.empty()) plan.vtk_every_rows = 0;
+#else
+        (void)vtk_every;
+#endif
         if (!resume.empty()) {  // everything comes from the checkpoint
             // Any setting given now would be ignored or would change the run half-way: refused.
             for (const CLI::Option* o : app.get_options())
