@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's table of damping during the loading: the paper preset loaded from one
+# Regenerates the table of docs/loading-damping.md: the paper preset loaded from one
 # prepared packing under several damping policies, and for each the quality figures of its
 # run.json (examples/biaxial/quality.hpp): roughness of sigma_22, the fixed and the controlled
 # side wall's mean push, the controlled wall's rms deviation from p, the median gap between the
