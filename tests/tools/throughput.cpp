@@ -168,6 +168,10 @@ BOOST_AUTO_TEST_CASE(bad_input_is_refused_with_a_message_and_no_result) {
         {"--steps 0", "--steps: Value 0 not in range"},
         {"--dt-fraction 50 --dt 1e-7", "excludes"},
         {"--law elastic", "--law"},
+        // Values that overflow the derived quantities: the option at fault is named, not the library's call.
+        {"--k 1e308", "--k 1e+308 N/m with --density 2000 kg/m^3 gives a contact duration"},
+        {"--density 1e308", "--density 1e+308 kg/m^3 gives a particle of the mean radius"},
+        {"--kt 1e308", "exceeds the stability limit 0 s of the lightest particles' contact (set by --k, --kt"},
     };
     for (const auto& c : cases) {
         const auto r = run(c.args + " --json");
