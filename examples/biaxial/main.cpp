@@ -510,7 +510,7 @@ int main(int argc, char** argv) {
         plan.quiet = quiet;
         plan.pictures = !no_pictures;
 #ifndef MICROMACRO_HAVE_VTK  // a build without VTK writes no frames, and says so when asked for them
-        if (vtk_every->count() && plan.vtk_every_rows > 0)
+        if (resume.empty() && vtk_every->count() && plan.vtk_every_rows > 0)  // (with --resume: refused below as any option)
             micromacro::detail::throw_input_error("--vtk-every ", plan.vtk_every_rows, " asks for VTK frames, but this biaxial was "
                                                   "built without VTK (install libvtk9-dev and build again); use --vtk-every 0");
         if (resume.empty()) plan.vtk_every_rows = 0;
