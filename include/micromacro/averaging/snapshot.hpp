@@ -1,18 +1,17 @@
 #pragma once
 // What the averaging works on: a frozen packing with its contacts and their forces, taken from a
-// running Simulation or built from a packing file. Averages never touch the engine, so a packing
-// made by any code can be analysed the same way.
+// running simulation (engine/snapshot.hpp) or built from a packing file. Averages never touch the
+// engine, so a packing made by any code can be analysed the same way.
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <optional>
 #include <vector>
 
-#include "micromacro/contact/contact_list.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
-#include "micromacro/core/simulation.hpp"
+#include "micromacro/core/index.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 
 namespace micromacro {
@@ -101,50 +100,6 @@ ContactRecord<dim> pair_record(Index i, Index j, const Vec<dim>& ri, double ai, 
     return c;
 }
 }  // namespace detail
-
-/// The packing and contacts of a simulation at its present state (forces as for_each_contact
-/// reports them).
-template <class Sim>
-PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
-    constexpr int dim = Sim::dimension;
-    PackingSnapshot<dim> s;
-    s.domain = sim.domain();
-    const auto& p = sim.particles();
-    for (std::size_t i = 0; i < p.size(); ++i) {  // stored in Real, analysed in double
-        s.position.push_back(convert<double>(p.position()[i]));
-        s.velocity.push_back(convert<double>(p.velocity()[i]));
-        s.radius.push_back(p.radius()[i]);
-        s.mass.push_back(p.mass()[i]);
-    }
-    double kt = 0.0;
-    if constexpr (Sim::has_tangential) kt = sim.law().tangential.stiffness();
-    const double k = sim.law().normal.stiffness();
-    sim.for_each_contact([&](const ContactView<dim>& v) {
-        ContactRecord<dim> c;
-        if (v.wall) {
-            c.i = v.i;
-            c.j = v.j;
-            c.wall = true;
-            c.normal = v.geometry.normal;
-            c.branch = v.branch;
-            c.overlap = v.geometry.overlap;
-            c.point = s.position[v.i] - v.branch;
-            s.domain.wrap(c.point);
-            c.share_i = 1.0;
-        } else {
-            c = detail::pair_record<dim>(v.i, v.j, s.position[v.i], s.radius[v.i], s.radius[v.j], v.branch, s.domain);
-        }
-        c.normal_force = v.normal_force;
-        c.tangential_force = v.tangential_force;
-        c.k = k;
-        c.kt = kt;
-        c.sliding = v.sliding;
-        s.contacts.push_back(c);
-    });
-    if constexpr (Sim::has_walls)
-        for (const auto& w : sim.walls()) s.walls.push_back({w.normal, w.offset, w.force});
-    return s;
-}
 
 /// Finds the contacts of a packing given only positions and radii (overlap > 0) and gives them
 /// linear forces: f_n = k overlap, no tangential force, stiffnesses k and kt for the stiffness

@@ -3,22 +3,14 @@
 // per-contact history. Pairs are kept sorted by (i, j) so a rebuild can carry each surviving
 // pair's history over by one merge pass; a pair that leaves the list loses its history.
 #include <algorithm>
-#include <cstdint>
 #include <utility>
 #include <type_traits>
 #include <vector>
 
 #include "micromacro/contact/tangential.hpp"
+#include "micromacro/core/index.hpp"
 
 namespace micromacro {
-
-using Index = std::uint32_t;
-
-struct IndexPair {
-    Index i, j;  ///< particle i and partner j (a particle with j > i, or a wall number)
-    friend bool operator<(const IndexPair& a, const IndexPair& b) { return a.i != b.i ? a.i < b.i : a.j < b.j; }
-    friend bool operator==(const IndexPair&, const IndexPair&) = default;
-};
 
 template <class History>
 class ContactList {

@@ -32,6 +32,8 @@
 #include "micromacro/averaging/snapshot.hpp"
 #include "micromacro/averaging/tensor.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/engine/snapshot.hpp"
+#include "micromacro/particles/particles.hpp"
 
 namespace micromacro::io {
 

@@ -3,7 +3,7 @@
 // search to, and a fine choice below a few hundred particles.
 #include <vector>
 
-#include "micromacro/contact/contact_list.hpp"
+#include "micromacro/core/index.hpp"
 #include "micromacro/core/domain.hpp"
 
 namespace micromacro {

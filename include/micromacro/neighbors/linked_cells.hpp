@@ -9,7 +9,7 @@
 #include <cmath>
 #include <vector>
 
-#include "micromacro/contact/contact_list.hpp"
+#include "micromacro/core/index.hpp"
 #include "micromacro/core/domain.hpp"
 
 namespace micromacro {

@@ -19,7 +19,7 @@
 #include <numeric>
 #include <vector>
 
-#include "micromacro/contact/contact_list.hpp"
+#include "micromacro/core/index.hpp"
 #include "micromacro/core/domain.hpp"
 
 namespace micromacro {

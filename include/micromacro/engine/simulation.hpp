@@ -25,6 +25,7 @@
 #include "micromacro/core/error.hpp"
 #include "micromacro/core/inline.hpp"
 #include "micromacro/core/parallel.hpp"
+#include "micromacro/engine/contact_view.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/neighbors/spatial_order.hpp"
@@ -32,22 +33,6 @@
 #include "micromacro/walls/walls.hpp"
 
 namespace micromacro {
-
-/// One contact as analysis sees it (see Simulation::for_each_contact).
-template <int dim>
-struct ContactView {
-    Index i;                      ///< the particle
-    Index j;                      ///< the partner particle, or the wall number when `wall`
-    bool wall;                    ///< partner is a wall
-    ContactGeometry<dim> geometry;
-    Vec<dim> branch;              ///< r_i - r_j (minimum image); for a wall, r_i minus its projection on the plane
-    double normal_force;          ///< f_n along n, elastic + viscous, positive = repulsive
-    double normal_elastic_force;  ///< k overlap
-    Vec<dim> tangential_force;    ///< on i
-    double elastic_energy;        ///< normal + tangential spring energy
-    bool sliding;
-    Vec<dim> force() const { return normal_force * geometry.normal + tangential_force; }
-};
 
 /// The engine. `Real` is the storage precision of the particle state (positions, velocities,
 /// forces, radii, masses): every force and update is computed in double, and with float each

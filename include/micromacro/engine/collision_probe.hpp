@@ -6,7 +6,7 @@
 #include <cmath>
 
 #include "micromacro/contact/contact_law.hpp"
-#include "micromacro/core/simulation.hpp"
+#include "micromacro/engine/simulation.hpp"
 #include "micromacro/neighbors/brute_force.hpp"
 
 namespace micromacro {
