@@ -163,10 +163,10 @@ inline void validate(const Config& c) {
                               "stiffness k oscillates at omega dt = ", omega * dt, ", above the stable 2; use --wall-mass >= ",
                               1.0 / (1.0 / (c.k * dt * dt) - 1.0 / m_min), " (the default is 1e-4)");
     }
-    {  // the tangential spring between the two lightest particles, turning (the engine's stable_time_step)
+    {  // the tangential spring between the two lightest particles, turning (as the engine's stable_time_step)
         const double mobility = 2.0 * 3.5 / m_min;  // 1/m + a^2/I per particle, I = 2/5 m a^2
-        const double limit = mm::VelocityVerlet::stability_limit(std::sqrt(c.kt_ratio * c.k * mobility),
-                                                                0.5 * c.gammat_ratio * c.gamma0 * mobility);
+        const double limit = mm::tangential_time_step_limit<mm::VelocityVerlet>(
+            mm::CundallStrack(c.kt_ratio * c.k, c.gammat_ratio * c.gamma0, 0.0), mobility);
         if (dt > limit)
             throw_input_error("--kt-ratio ", c.kt_ratio, " makes the tangential spring too stiff for dt = ", dt,
                               " s: between the two lightest particles it is stable up to dt = ", limit, " s; use --kt-ratio <= ",

@@ -25,7 +25,12 @@
 #include "micromacro/core/error.hpp"
 #include "micromacro/core/inline.hpp"
 #include "micromacro/core/parallel.hpp"
+#include "micromacro/engine/contact_response.hpp"
 #include "micromacro/engine/contact_view.hpp"
+#include "micromacro/engine/pair_loop.hpp"
+#include "micromacro/engine/particle_pass.hpp"
+#include "micromacro/engine/stability.hpp"
+#include "micromacro/engine/thread_shares.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/neighbors/spatial_order.hpp"
@@ -144,9 +149,7 @@ public:
         if constexpr (has_walls) any_wall = walls_.size() > 0;
         if (particles_.size() < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
         const double partners = particles_.size() > 1 ? 2.0 : 1.0;  // another particle, or a wall
-        const double inv_mu_n = partners * inv_max;
-        double limit = Integrator::stability_limit(std::sqrt(law_.normal.stiffness() * inv_mu_n),
-                                                  0.5 * law_.normal.damping() * inv_mu_n);
+        double limit = normal_time_step_limit<Integrator>(law_.normal, partners * inv_max);
         if constexpr (has_tangential) {
             // The contact point's tangential mobility: 1/m + a^2/I with rotation, 1/m without.
             double inv_t = 0.0;
@@ -158,17 +161,12 @@ public:
                 }
                 inv_t = std::max(inv_t, mobility);
             }
-            const double inv_mu_t = partners * inv_t;
-            limit = std::min(limit, Integrator::stability_limit(std::sqrt(law_.tangential.stiffness() * inv_mu_t),
-                                                               0.5 * law_.tangential.damping() * inv_mu_t));
+            limit = std::min(limit, tangential_time_step_limit<Integrator>(law_.tangential, partners * inv_t));
         }
-        if constexpr (has_walls)  // a stress-controlled wall on one contact: semi-implicit Euler
+        if constexpr (has_walls)  // a stress-controlled wall on one contact
             for (const auto& w : walls_)
-                if (const auto* s = std::get_if<StressControlled>(&w.motion)) {
-                    const double inv_mu = 1.0 / s->mass + inv_max;
-                    limit = std::min(limit, SymplecticEuler::stability_limit(std::sqrt(law_.normal.stiffness() * inv_mu),
-                                                                            0.5 * s->damping / s->mass));
-                }
+                if (const auto* s = std::get_if<StressControlled>(&w.motion))
+                    limit = std::min(limit, stress_wall_time_step_limit(law_.normal, s->mass, s->damping, inv_max));
         return limit;
     }
 
@@ -303,8 +301,11 @@ public:
         }
         // Without periodic axes (a box of walls, like the biaxial test) the pass skips wrapping and
         // minimum images: the same numbers, a quarter fewer instructions in the pass (2D biaxial).
-        const auto [max_move_sq, sum_move_sq] = domain_.any_periodic() ? kick_drift_pass<true>(h_before, dt, h_after, h_closing)
-                                                                       : kick_drift_pass<false>(h_before, dt, h_after, h_closing);
+        constexpr bool keep = Integrator::keeps_previous_forces;
+        const auto [max_move_sq, sum_move_sq] =
+            domain_.any_periodic()
+                ? detail::kick_drift_pass<true, rotation, keep>(particle_arrays(), domain_, h_before, dt, h_after, h_closing, active_threads())
+                : detail::kick_drift_pass<false, rotation, keep>(particle_arrays(), domain_, h_before, dt, h_after, h_closing, active_threads());
         accumulators_cleared_ = true;
         if (!std::isfinite(sum_move_sq)) report_blow_up();
         double wall_move = 0.0;
@@ -321,36 +322,7 @@ public:
 
     void kick_force_change(double h) {
         static_assert(Integrator::keeps_previous_forces);
-        SV* v = particles_.template get<field::Velocity>().data();
-        const SV* f = particles_.template get<field::Force>().data();
-        const SV* f_old = previous_force_.data();
-        const Real* inv_m = particles_.template get<field::InverseMass>().data();
-        [[maybe_unused]] SA* w = nullptr;
-        [[maybe_unused]] const SA* torque = nullptr;
-        [[maybe_unused]] const SA* torque_old = nullptr;
-        [[maybe_unused]] const Real* inv_I = nullptr;
-        if constexpr (rotation) {
-            w = particles_.template get<field::AngularVelocity>().data();
-            torque = particles_.template get<field::Torque>().data();
-            torque_old = previous_torque_.data();
-            inv_I = particles_.template get<field::InverseInertia>().data();
-        }
-        const std::size_t n = particles_.size();
-        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) if (active_threads() > 1))
-        for (std::size_t i = 0; i < n; ++i) {
-            v[i] = convert<Real>(force_change_kick(convert<double>(v[i]), h * double(inv_m[i]), convert<double>(f[i]),
-                                                   convert<double>(f_old[i])));
-            if constexpr (rotation)
-                w[i] = convert<Real>(force_change_kick(convert<double>(w[i]), h * double(inv_I[i]), convert<double>(torque[i]),
-                                                       convert<double>(torque_old[i])));
-        }
-    }
-
-    // v + h/m (F - F_old), or its rotational twin: the one formula of kick_force_change and of
-    // the closing kick merged into kick_drift_kick, so the two give the same bits.
-    template <class U>
-    MICROMACRO_INLINE static U force_change_kick(const U& v, double h_over_mass, const U& now, const U& before) {
-        return U(v + h_over_mass * (now - before));
+        detail::kick_force_change_pass<rotation>(particle_arrays(), h, active_threads());
     }
 
     void compute_forces() {
@@ -425,7 +397,7 @@ public:
             const double dist = d.norm(), reach = double(r[i]) + double(r[j]);
             if (!(dist < reach) || dist == 0.0) continue;
             const V n = d * (1.0 / dist);  // as the force loop computes it
-            f(view(i, j, false, n, reach - dist, d, relative_velocity(i, j, n), history_of(pairs_, c)));
+            f(detail::contact_view(law_, i, j, false, n, reach - dist, d, relative_velocity(i, j, n), history_of(pairs_, c)));
         }
         if constexpr (has_walls)
             for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
@@ -433,8 +405,8 @@ public:
                 const auto& wall = walls_[w];
                 const double s = wall.distance(convert<double>(x[i])), a = r[i];
                 if (!(s < a)) continue;
-                f(view(i, w, true, wall.normal, a - s, V(s * wall.normal), wall_relative_velocity(i, wall),
-                       history_of(wall_contacts_, c), wall.frictionless));
+                f(detail::contact_view(law_, i, w, true, wall.normal, a - s, V(s * wall.normal), wall_relative_velocity(i, wall),
+                                       history_of(wall_contacts_, c), wall.frictionless));
             }
     }
 
@@ -582,195 +554,9 @@ public:
     }
 
 private:
-    // What a thread's share of the pair loop owes a particle of a later thread (see pair_forces):
-    // subtracted from its force and torque, as the partner of a pair.
-    struct Spill {
-        Index particle;
-        SV force;
-        [[no_unique_address]] std::conditional_t<rotation, SA, NoHistory> torque;
-    };
+    using Spill = detail::Spill<dim, Real, rotation>;
 
-    struct Response {
-        V force;       // on i
-        V tangential;  // tangential part of force, for the torques
-        double normal_force;
-    };
-
-    // The physics of one contact, shared by particle pairs and wall contacts. What it dissipates
-    // goes to `books` (a local copy in the pair loop, so the sums stay in registers).
-    template <bool track>
-    MICROMACRO_INLINE static Response respond(const Law& law, double dt, const V& n, double overlap, double normal_velocity,
-                                              const V& relative_velocity, History* h, EnergyBooks& books, bool smooth = false) {
-        const NormalForce fn = law.normal.force(overlap, normal_velocity);
-        if constexpr (track) books.dissipated_normal -= fn.viscous * normal_velocity * dt;
-        Response out{fn.total() * n, V::Zero(), fn.total()};
-        if constexpr (has_tangential) {
-            if (smooth) return out;  // a frictionless wall: normal part only
-            const auto ft = law.tangential.template force<dim, track>(n, relative_velocity, normal_velocity, fn.total(), overlap,
-                                                                               dt, *h);
-            if constexpr (track) {
-                books.dissipated_tangential += ft.dissipated_viscous;
-                books.dissipated_sliding += ft.dissipated_sliding;
-            }
-            out.force += ft.force;
-            out.tangential = ft.force;
-        }
-        return out;
-    }
-
-    // The one pair loop, over candidates [begin, end), adding into the particles' force and
-    // torque arrays f and torque; a partner at or past owned_end belongs to another thread and
-    // goes to `spill` instead (see pair_forces() below). Raw pointers and local copies of the
-    // law, the box and the energy account: through the members the compiler would reload them
-    // after every store to the forces. (Keeping i's values in registers over its run of
-    // partners was tried: more instructions and no faster, the loop runs out of registers.)
-    // A coincident pair cannot be thrown from a thread; it is recorded and reported after.
-    // `periodic`: whether the box has a periodic axis (else separations are plain differences).
-    template <bool track, bool periodic>
-    void pair_forces(std::size_t begin, std::size_t end, SV* f, [[maybe_unused]] SA* torque, EnergyBooks& books,
-                     IndexPair& coincident, Index owned_end, std::vector<Spill>& spill) {
-        const SV* x = particles_.position().data();
-        const SV* v = particles_.velocity().data();
-        const Real* r = particles_.radius().data();
-        [[maybe_unused]] const SA* w = nullptr;
-        if constexpr (rotation) w = particles_.template get<field::AngularVelocity>().data();
-        const IndexPair* pair = pairs_.pairs().data();
-        [[maybe_unused]] History* history = nullptr;
-        if constexpr (has_tangential) history = pairs_.history_data();
-        const Domain<dim> domain = domain_;
-        const Law law = law_;
-        const double dt = dt_;
-        EnergyBooks account = books;
-        // Three passes per block of candidates: find the touching pairs (branch-free, the 20-30%
-        // of candidates that do not touch would otherwise be a badly predicted jump), take their
-        // square roots and reciprocals as Eigen packets, then compute their forces. The square
-        // root and division of each contact sat in one chain with its force and stalled the
-        // single loop (perf: a fifth of its samples); in packets they pipeline two (SSE2) or
-        // four (AVX) at a time. The arithmetic and the order of the sums are unchanged.
-        constexpr std::size_t block = 128;
-        std::array<std::uint32_t, block> touching;
-        [[maybe_unused]] std::array<std::uint32_t, block> opened;
-        std::array<V, block> separation;
-        std::array<double, block> separation_sq, distance, inverse_distance;
-        for (std::size_t b0 = begin; b0 < end; b0 += block) {
-            const std::size_t b1 = std::min(end, b0 + block);
-            std::size_t count = 0, open = 0;
-            for (std::size_t c = b0; c < b1; ++c) {
-                const auto [i, j] = pair[c];
-                const V d = domain.template separation_for<periodic>(convert<double>(x[i]), convert<double>(x[j]));
-                const double dist_sq = d.squaredNorm(), reach = double(r[i]) + double(r[j]);
-                const bool touches = dist_sq < reach * reach;
-                touching[count] = static_cast<std::uint32_t>(c - b0);
-                if constexpr (has_tangential) opened[open] = static_cast<std::uint32_t>(c - b0);
-                separation[count] = d;
-                separation_sq[count] = dist_sq;
-                count += touches;
-                open += !touches;
-            }
-            if constexpr (has_tangential)
-                for (std::size_t k = 0; k < open; ++k) {  // the contact opened, if it was one
-                    History& h = history[b0 + opened[k]];
-                    if (h.touching) [[unlikely]]
-                        opened_pair<periodic>(pair[b0 + opened[k]], h, f, torque, owned_end, spill);
-                    h = History{};
-                }
-            {  // square roots and reciprocals two or four at a time (Eigen's packets)
-                using Column = Eigen::Array<double, Eigen::Dynamic, 1>;
-                Eigen::Map<Column> dist(distance.data(), count), inverse(inverse_distance.data(), count);
-                dist = Eigen::Map<const Column>(separation_sq.data(), count).sqrt();
-                inverse = dist.inverse();
-            }
-            for (std::size_t k = 0; k < count; ++k) {
-                const std::size_t c = b0 + touching[k];
-                const auto [i, j] = pair[c];
-                if (separation_sq[k] == 0.0) [[unlikely]] {
-                    coincident = pair[c];
-                    continue;
-                }
-                const double ri = r[i], rj = r[j], reach = ri + rj;
-                const double dist = distance[k];
-                const V n = separation[k] * inverse_distance[k];
-                const V dv = convert<double>(v[i]) - convert<double>(v[j]);
-                const V vr = relative_velocity(n, dv, w, i, j, ri, rj);
-                History* h = nullptr;
-                if constexpr (has_tangential) h = history + c;
-                const Response resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
-                const SV& stored = convert<Real>(resp.force);  // resp.force itself in double
-                f[i] += stored;
-                [[maybe_unused]] A arm{};
-                if constexpr (rotation) {
-                    arm = T::cross(n, resp.tangential);  // torque on i is (-a_i n) x f_t
-                    torque[i] -= convert<Real>(A(ri * arm));
-                }
-                if (j < owned_end) [[likely]] {
-                    f[j] -= stored;
-                    if constexpr (rotation) torque[j] -= convert<Real>(A(rj * arm));
-                } else {  // another thread's particle: added by its owner after the loop
-                    Spill& s = spill.emplace_back();
-                    s.particle = j;
-                    s.force = stored;
-                    if constexpr (rotation) s.torque = convert<Real>(A(rj * arm));
-                }
-            }
-        }
-        books = account;
-    }
-
-    // The rest of the last evaluation's tangential impulse for a pair found open whose history
-    // says it touched then (see opening_correction), added to both particles like a contact's
-    // force. Out of the pair loop's way: one pair in thousands per step comes here.
-    template <bool periodic>
-    MICROMACRO_COLD void opened_pair(IndexPair p, const History& h, SV* f, [[maybe_unused]] SA* torque, Index owned_end,
-                                     std::vector<Spill>& spill) const {
-        const auto [i, j] = p;
-        const auto& x = particles_.position();
-        const auto& v = particles_.velocity();
-        const auto& r = particles_.radius();
-        const V d = domain_.template separation_for<periodic>(convert<double>(x[i]), convert<double>(x[j]));
-        const double dist = d.norm();
-        if (!(dist > 0.0)) return;
-        const V n = d / dist;
-        const V force = opening_correction(h, n, double(r[i]) + double(r[j]) - dist, n.dot(convert<double>(v[i]) - convert<double>(v[j])));
-        const SV stored = convert<Real>(force);
-        f[i] += stored;
-        [[maybe_unused]] A arm{};
-        if constexpr (rotation) {
-            arm = T::cross(n, force);
-            torque[i] -= convert<Real>(A(double(r[i]) * arm));
-        }
-        if (j < owned_end) {
-            f[j] -= stored;
-            if constexpr (rotation) torque[j] -= convert<Real>(A(double(r[j]) * arm));
-        } else {
-            Spill& s = spill.emplace_back();
-            s.particle = j;
-            s.force = stored;
-            if constexpr (rotation) s.torque = convert<Real>(A(double(r[j]) * arm));
-        }
-    }
-
-    // The tangential force that completes a just-opened contact's last evaluation, from the
-    // overlap and separation speed of now: the overlap then was overlap + speed dt, the normal
-    // force then the law's at that overlap, and the contact opened overlap-then / speed after it.
-    V opening_correction(const History& h, const V& n, double overlap_now, double normal_velocity) const {
-        if constexpr (requires { law_.tangential.opening_correction(n, h, 0.0, 0.0, 0.0); }) {
-            if (!(normal_velocity > 0.0)) return V::Zero();
-            const double overlap_then = overlap_now + normal_velocity * dt_;
-            if (!(overlap_then > 0.0)) return V::Zero();
-            const double fn = law_.normal.force(overlap_then, normal_velocity).total();
-            return law_.tangential.opening_correction(n, h, fn, overlap_then / normal_velocity, dt_);
-        } else {
-            return V::Zero();
-        }
-    }
-
-    // All pair forces, on threads_ threads. The candidates are sorted by their first particle i;
-    // each thread takes a nearly equal contiguous share, cut where i changes, and so owns the
-    // particles from its first i to the next share's first i: it writes their forces directly.
-    // Only a partner j past its own particles (j > i, so it belongs to a later thread) goes into
-    // the thread's spill list, which the owner adds after the loop, threads in order. With
-    // particles in spatial order (sort_spatially) a share's partners lie close to it and the
-    // spill lists stay short. Bitwise the same for a fixed thread count.
+    // All pair forces, on threads_ threads (see engine/thread_shares.hpp).
     template <bool track>
     void pair_forces() {
         SV* f = particles_.template get<field::Force>().data();
@@ -783,36 +569,33 @@ private:
         coincident_.assign(shares, IndexPair{0, 0});
         spills_.resize(shares);
         for (auto& list : spills_) list.clear();
+        detail::PairLoopInput<dim, Real, History> in{particles_.position().data(), particles_.velocity().data(),
+                                                     particles_.radius().data(), nullptr, pairs_.pairs().data(), nullptr};
+        if constexpr (rotation) in.w = particles_.template get<field::AngularVelocity>().data();
+        if constexpr (has_tangential) in.history = pairs_.history_data();
         // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
         // axes the separations need no minimum-image test (see kick_drift_kick).
         const bool periodic = domain_.any_periodic();
         auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
-            if (periodic) pair_forces<track, true>(begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t]);
-            else pair_forces<track, false>(begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t]);
+            if (periodic)
+                detail::pair_loop<track, true, rotation>(in, domain_, law_, dt_, begin, end, f, torque, thread_books_[t],
+                                                         coincident_[t], owned_end, spills_[t]);
+            else
+                detail::pair_loop<track, false, rotation>(in, domain_, law_, dt_, begin, end, f, torque, thread_books_[t],
+                                                          coincident_[t], owned_end, spills_[t]);
         };
         if (shares == 1) {
             share(0, count, 0, n);
         } else {
             const IndexPair* pair = pairs_.pairs().data();
-            share_start_.assign(shares + 1, count);
-            share_start_[0] = 0;
-            for (int t = 1; t < shares; ++t) {
-                std::size_t c = std::max(share_start_[t - 1], detail::share_begin(count, t, shares));
-                while (c > 0 && c < count && pair[c].i == pair[c - 1].i) ++c;  // do not split a particle's run
-                share_start_[t] = c;
-            }
+            detail::split_shares(pair, count, shares, share_start_);
             auto first_particle = [&](int t) { return share_start_[t] < count ? pair[share_start_[t]].i : n; };
             MICROMACRO_OMP(omp parallel num_threads(shares)) {
                 const int t = detail::thread_number();
                 const Index owned_begin = t == 0 ? 0 : first_particle(t), owned_end = t + 1 == shares ? n : first_particle(t + 1);
                 share(share_start_[t], share_start_[t + 1], t, owned_end);
                 MICROMACRO_OMP(omp barrier)
-                for (int u = 0; u < t; ++u)
-                    for (const Spill& s : spills_[u]) {
-                        if (s.particle < owned_begin || s.particle >= owned_end) continue;
-                        f[s.particle] -= s.force;
-                        if constexpr (rotation) torque[s.particle] -= s.torque;
-                    }
+                detail::add_spills(spills_, t, owned_begin, owned_end, f, torque);
             }
         }
         for (const IndexPair& c : coincident_)
@@ -842,7 +625,8 @@ private:
                     if constexpr (has_tangential) {
                         History& h = wall_contacts_.history(c);
                         if (h.touching) [[unlikely]] {  // opened in the last step: see opening_correction
-                            const V force = opening_correction(h, wall.normal, a - s, wall.normal.dot(wall_relative_velocity(i, wall)));
+                            const V force = detail::opening_correction(law_, h, wall.normal, a - s,
+                                                                      wall.normal.dot(wall_relative_velocity(i, wall)), dt_);
                             f[i] += convert<Real>(force);
                             wall.force -= force;
                             if constexpr (rotation)
@@ -854,8 +638,8 @@ private:
                 }
                 const V& n = wall.normal;
                 const V vr = wall_relative_velocity(i, wall);
-                const Response resp = respond<track>(law_, dt_, n, a - s, n.dot(vr), vr, history_of(wall_contacts_, c),
-                                                     step_books_, wall.frictionless);
+                const auto resp = detail::respond<track>(law_, dt_, n, a - s, n.dot(vr), vr, history_of(wall_contacts_, c),
+                                                         step_books_, wall.frictionless);
                 f[i] += convert<Real>(resp.force);
                 wall.force -= resp.force;
                 if constexpr (rotation)
@@ -945,20 +729,13 @@ private:
         }
     }
 
-    // v_ij of Eq. 25: relative velocity of the contact points, v_i - v_j + a_i n x w_i + a_j n x w_j,
-    // from dv = v_i - v_j and the angular velocities w (unused without rotation). Static on raw
-    // arrays for the pair loop (see pair_forces); analysis calls the member below.
-    MICROMACRO_INLINE static V relative_velocity(const V& n, const V& dv, [[maybe_unused]] const SA* w, [[maybe_unused]] Index i,
-                                                 [[maybe_unused]] Index j, [[maybe_unused]] double ri, [[maybe_unused]] double rj) {
-        if constexpr (rotation) return dv + T::cross(n, A(ri * convert<double>(w[i]) + rj * convert<double>(w[j])));
-        else return dv;
-    }
+    // v_ij of Eq. 25 of a pair (see detail::contact_point_velocity).
     V relative_velocity(Index i, Index j, const V& n) const {
         const SA* w = nullptr;
         if constexpr (rotation) w = particles_.template get<field::AngularVelocity>().data();
         const auto& v = particles_.velocity();
         const auto& r = particles_.radius();
-        return relative_velocity(n, V(convert<double>(v[i]) - convert<double>(v[j])), w, i, j, r[i], r[j]);
+        return detail::contact_point_velocity<rotation>(n, V(convert<double>(v[i]) - convert<double>(v[j])), w, i, j, r[i], r[j]);
     }
     template <class W>
     V wall_relative_velocity(Index i, const W& wall) const {
@@ -975,103 +752,29 @@ private:
         else return static_cast<History*>(nullptr);
     }
 
-    ContactView<dim> view(Index i, Index j, bool wall, const V& n, double overlap, const V& branch, const V& vr,
-                          const History* h, bool smooth = false) const {
-        ContactView<dim> c{i, j, wall, {n, overlap, n.dot(vr), vr}, branch, 0, 0, V::Zero(), 0, false};
-        const NormalForce fn = law_.normal.force(overlap, c.geometry.normal_velocity);
-        c.normal_force = fn.total();
-        c.normal_elastic_force = fn.elastic;
-        c.elastic_energy = law_.normal.elastic_energy(overlap);
-        if constexpr (has_tangential) {
-            if (smooth) return c;
-            c.tangential_force = law_.tangential.current_force(n, vr, fn.total(), *h);
-            c.elastic_energy += law_.tangential.elastic_energy(law_.tangential.present_spring(n, *h));
-            c.sliding = h->sliding;
-        }
-        return c;
-    }
-
     template <class F>
     double gravitational_energy(const F& force) const {
         if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
         else return 0.0;
     }
 
-    // The particle pass of kick_drift_kick (see there): the largest squared displacement from
-    // the references and the sum of them all (finite unless a particle blew up).
-    template <bool periodic>
-    std::pair<double, double> kick_drift_pass(double h_before, double dt, double h_after, double h_closing) {
-        SV* x = particles_.template get<field::Position>().data();
-        SV* v = particles_.template get<field::Velocity>().data();
-        SV* f = particles_.template get<field::Force>().data();
-        const Real* inv_m = particles_.template get<field::InverseMass>().data();
-        [[maybe_unused]] SA* w = nullptr;
-        [[maybe_unused]] SA* torque = nullptr;
-        [[maybe_unused]] const Real* inv_I = nullptr;
+    // The particle arrays the passes of engine/particle_pass.hpp work on.
+    detail::ParticleArrays<dim, Real> particle_arrays() {
+        detail::ParticleArrays<dim, Real> a{particles_.template get<field::Position>().data(),
+                                            particles_.template get<field::Velocity>().data(),
+                                            particles_.template get<field::Force>().data(),
+                                            particles_.template get<field::InverseMass>().data(),
+                                            nullptr, nullptr, nullptr, nullptr, nullptr, reference_.data(), particles_.size()};
         if constexpr (rotation) {
-            w = particles_.template get<field::AngularVelocity>().data();
-            torque = particles_.template get<field::Torque>().data();
-            inv_I = particles_.template get<field::InverseInertia>().data();
+            a.w = particles_.template get<field::AngularVelocity>().data();
+            a.torque = particles_.template get<field::Torque>().data();
+            a.inv_I = particles_.template get<field::InverseInertia>().data();
         }
-        // The forces of the step before (Verlet): read by a closing kick, then cleared.
-        [[maybe_unused]] SV* f_old = nullptr;
-        [[maybe_unused]] SA* torque_old = nullptr;
         if constexpr (Integrator::keeps_previous_forces) {
-            f_old = previous_force_.data();
-            if constexpr (rotation) torque_old = previous_torque_.data();
+            a.f_old = previous_force_.data();
+            if constexpr (rotation) a.torque_old = previous_torque_.data();
         }
-        const SV* reference = reference_.data();
-        const std::size_t n = particles_.size();
-        // A local copy: the stores to x and v could alias the members, which the compiler would
-        // then reload for every particle.
-        const Domain<dim> domain = domain_;
-        double max_move_sq = 0.0, sum_move_sq = 0.0;
-        // firstprivate: shared, the scalars and pointers would be read through the outlined
-        // function's argument block for every particle (the stores to x, v, w may alias it).
-        MICROMACRO_OMP(omp parallel for num_threads(active_threads()) schedule(static) reduction(max : max_move_sq) reduction(+ : sum_move_sq)
-                           firstprivate(x, v, f, inv_m, w, torque, inv_I, f_old, torque_old, reference, domain, h_before, dt,
-                                        h_after, h_closing) if (active_threads() > 1))
-        for (std::size_t i = 0; i < n; ++i) {
-            const V fi = convert<double>(f[i]);
-            V vi = convert<double>(v[i]);
-            [[maybe_unused]] A wi = zero_angular<dim, double>();
-            if constexpr (rotation) wi = convert<double>(w[i]);
-            if constexpr (Integrator::keeps_previous_forces) {
-                if (h_closing != 0.0) {  // kick_force_change(h_closing) (double only, see above)
-                    vi = force_change_kick(vi, h_closing * double(inv_m[i]), fi, convert<double>(f_old[i]));
-                    if constexpr (rotation)
-                        wi = force_change_kick(wi, h_closing * double(inv_I[i]), convert<double>(torque[i]),
-                                               convert<double>(torque_old[i]));
-                }
-                f_old[i] = SV::Zero();  // becomes the force array at the next compute_forces()
-                if constexpr (rotation) torque_old[i] = zero_angular<dim, Real>();
-            }
-            const V a = double(inv_m[i]) * fi;
-            vi += h_before * a;
-            V xi = convert<double>(x[i]) + dt * vi;
-            vi += h_after * a;
-            if constexpr (periodic) domain.wrap(xi);
-            // The displacement from the stored value, not reloaded from x[i]: wrap() stores
-            // coordinates one by one, and a vector load right after them stalls.
-            const SV stored = convert<Real>(xi);
-            x[i] = stored;
-            v[i] = convert<Real>(vi);
-            const double move_sq =
-                domain.template separation_for<periodic>(convert<double>(stored), convert<double>(reference[i])).squaredNorm();
-            // The maximum drops a NaN, and the pair loop treats a NaN pair as not touching, so
-            // nothing else would stop the run: the sum catches NaN and infinity. (It replaced a
-            // NaN-to-infinity select per particle: 5% fewer instructions in this pass, 2D 1950
-            // 1.03-1.06x side by side. By value, not std::max: its reference result made GCC carry
-            // the maximum from particle to particle through memory.)
-            max_move_sq = move_sq > max_move_sq ? move_sq : max_move_sq;
-            sum_move_sq += move_sq;
-            if constexpr (rotation) {
-                w[i] = convert<Real>(A(wi + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
-                if constexpr (!Integrator::keeps_previous_forces) torque[i] = zero_angular<dim, Real>();
-            }
-            if constexpr (!Integrator::keeps_previous_forces) f[i] = SV::Zero();  // read for the last time
-        }
-        return {max_move_sq, sum_move_sq};
+        return a;
     }
 
     void rebuild_neighbors() {
@@ -1112,22 +815,12 @@ private:
             " s against the stability limit ", stable_time_step(), " s is the usual cause; reduce dt"));
     }
 
-    /// Refuses a scene whose stored coordinates cannot resolve overlaps of 1e-4 of the smallest
-    /// radius (the paper's are 2e-4 of the mean) to 1%: too far from the origin, or float storage
-    /// for most packings, unless allow_coarse_positions(true).
+    // See micromacro::check_position_resolution (engine/stability.hpp).
     void check_position_resolution() const {
         if (particles_.empty() || allow_coarse_positions_) return;
         const auto& r = particles_.radius();
-        const double smallest = *std::min_element(r.begin(), r.end());
-        const double resolution = position_resolution();
-        if (resolution > 1e-6 * smallest)
-            detail::throw_input_error("coordinates up to ", resolution / std::numeric_limits<Real>::epsilon(),
-                                      " m from the origin are resolved to ", resolution, " m in ",
-                                      std::is_same_v<Real, float> ? "float" : "double",
-                                      ", more than 1e-6 of the smallest radius ", smallest,
-                                      " m: overlaps would lose their digits; move the origin into the packing",
-                                      std::is_same_v<Real, float> ? ", store in double" : "",
-                                      ", or call allow_coarse_positions(true) to accept it");
+        micromacro::check_position_resolution(position_resolution(), *std::min_element(r.begin(), r.end()),
+                                              std::numeric_limits<Real>::epsilon(), std::is_same_v<Real, float>);
     }
 
     Law law_;
