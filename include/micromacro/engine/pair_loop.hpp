@@ -28,10 +28,10 @@ struct Spill {
     [[no_unique_address]] std::conditional_t<rotation, Angular<dim, Real>, NoHistory> torque;
 };
 
-/// The stored arrays the pair loop reads, as raw pointers (`w` null without rotation,
-/// `history` null without a tangential law).
+/// The stored arrays the pair and wall loops read, as raw pointers: the particles' (`w` null
+/// without rotation) and one contact list's (`history` null without a tangential law).
 template <int dim, class Real, class History>
-struct PairLoopInput {
+struct ContactLoopInput {
     const Vec<dim, Real>* x;
     const Vec<dim, Real>* v;
     const Real* r;
@@ -63,7 +63,7 @@ MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim, Real>& st
 /// it touched then (see opening_correction), added to both particles like a contact's force. Out
 /// of the pair loop's way: one pair in thousands per step comes here.
 template <bool periodic, bool rotation, int dim, class Real, class Law, class History>
-MICROMACRO_COLD void opened_pair(const PairLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law, double dt,
+MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law, double dt,
                                  IndexPair p, const History& h, Vec<dim, Real>* f, Angular<dim, Real>* torque, Index owned_end,
                                  std::vector<Spill<dim, Real, rotation>>& spill) {
     using V = Vec<dim>;
@@ -88,7 +88,7 @@ MICROMACRO_COLD void opened_pair(const PairLoopInput<dim, Real, History>& in, co
 /// thrown from a thread; it is recorded in `coincident` and reported after. `periodic`: whether
 /// the box has a periodic axis (else separations are plain differences).
 template <bool track, bool periodic, bool rotation, int dim, class Real, class Law, class History>
-void pair_loop(const PairLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
+void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
                std::size_t begin, std::size_t end, Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque,
                EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill) {
     using V = Vec<dim>;

@@ -31,6 +31,8 @@
 #include "micromacro/engine/particle_pass.hpp"
 #include "micromacro/engine/stability.hpp"
 #include "micromacro/engine/thread_shares.hpp"
+#include "micromacro/engine/wall_contacts.hpp"
+#include "micromacro/engine/wall_work.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/neighbors/spatial_order.hpp"
@@ -143,26 +145,15 @@ public:
     /// per period (1e-4 at the paper's omega_t dt = 0.05, 1e-3 at 0.1): a little damping absorbs it.
     double stable_time_step() const {
         if (particles_.empty()) return std::numeric_limits<double>::infinity();
-        const auto& inv_m = particles_.template get<field::InverseMass>();
-        const double inv_max = *std::max_element(inv_m.begin(), inv_m.end());
+        const double inv_max = particles_.largest_inverse_mass();
         bool any_wall = false;
         if constexpr (has_walls) any_wall = walls_.size() > 0;
         if (particles_.size() < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
         const double partners = particles_.size() > 1 ? 2.0 : 1.0;  // another particle, or a wall
         double limit = normal_time_step_limit<Integrator>(law_.normal, partners * inv_max);
-        if constexpr (has_tangential) {
-            // The contact point's tangential mobility: 1/m + a^2/I with rotation, 1/m without.
-            double inv_t = 0.0;
-            for (std::size_t i = 0; i < particles_.size(); ++i) {
-                double mobility = inv_m[i];
-                if constexpr (rotation) {
-                    const double a = particles_.radius()[i];
-                    mobility += a * a * double(particles_.template get<field::InverseInertia>()[i]);
-                }
-                inv_t = std::max(inv_t, mobility);
-            }
-            limit = std::min(limit, tangential_time_step_limit<Integrator>(law_.tangential, partners * inv_t));
-        }
+        if constexpr (has_tangential)
+            limit = std::min(limit, tangential_time_step_limit<Integrator>(law_.tangential,
+                                                                           partners * particles_.largest_contact_point_mobility()));
         if constexpr (has_walls)  // a stress-controlled wall on one contact
             for (const auto& w : walls_)
                 if (const auto* s = std::get_if<StressControlled>(&w.motion))
@@ -435,15 +426,7 @@ public:
                         load(wall_contacts_.history(c), V(walls_[w].distance(convert<double>(x[i])) * walls_[w].normal));
                 }
         }
-        if constexpr (has_walls) {
-            const Eigen::Matrix<double, dim, dim> normal_map = F.inverse().transpose();
-            for (auto& w : walls_) {
-                const V point = F * (w.offset * w.normal);
-                w.normal = (normal_map * w.normal).normalized();
-                w.offset = w.normal.dot(point);
-                w.initial_offset = w.offset;
-            }
-        }
+        if constexpr (has_walls) walls_.deform(F);
         for (auto& p : x) {
             V moved = F * convert<double>(p);
             deformed.wrap(moved);
@@ -500,19 +483,12 @@ public:
             detail::throw_input_error(source, ": the restored state does not hold together (", what..., ")");
         };
         const std::size_t n = particles_.size();
-        if (!particles_.consistent()) refuse("particle fields of different lengths");
+        particles_.check_restored(refuse);
         if (reference_.size() != n) refuse(reference_.size(), " neighbour-list references for ", n, " particles");
         if constexpr (Integrator::keeps_previous_forces) {
             if (previous_force_.size() != n) refuse(previous_force_.size(), " previous forces for ", n, " particles");
             if constexpr (rotation)
                 if (previous_torque_.size() != n) refuse(previous_torque_.size(), " previous torques for ", n, " particles");
-        }
-        for (std::size_t i = 0; i < n; ++i) {
-            if (!convert<double>(particles_.position()[i]).allFinite() || !convert<double>(particles_.velocity()[i]).allFinite())
-                refuse("particle ", i, " has a position or velocity that is not finite");
-            if (!(double(particles_.radius()[i]) > 0.0) || !(double(particles_.mass()[i]) > 0.0) ||
-                !std::isfinite(double(particles_.radius()[i])) || !std::isfinite(double(particles_.mass()[i])))
-                refuse("particle ", i, " has radius ", particles_.radius()[i], " and mass ", particles_.mass()[i]);
         }
         if (!pairs_.consistent()) refuse("contact histories and pairs of different lengths");
         for (std::size_t c = 0; c < pairs_.size(); ++c) {
@@ -520,9 +496,7 @@ public:
             if (!(i < j && j < n)) refuse("pair ", c, " names particles ", i, " and ", j, " of ", n);
         }
         if constexpr (has_walls) {
-            for (std::size_t w = 0; w < walls_.size(); ++w)
-                if (!walls_[w].normal.allFinite() || !std::isfinite(walls_[w].offset) || !std::isfinite(walls_[w].speed))
-                    refuse("wall ", w, " has a position or speed that is not finite");
+            walls_.check_restored(refuse);
             if (!wall_contacts_.consistent()) refuse("wall histories and wall contacts of different lengths");
             for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
                 const auto [i, w] = wall_contacts_.pairs()[c];
@@ -569,10 +543,7 @@ private:
         coincident_.assign(shares, IndexPair{0, 0});
         spills_.resize(shares);
         for (auto& list : spills_) list.clear();
-        detail::PairLoopInput<dim, Real, History> in{particles_.position().data(), particles_.velocity().data(),
-                                                     particles_.radius().data(), nullptr, pairs_.pairs().data(), nullptr};
-        if constexpr (rotation) in.w = particles_.template get<field::AngularVelocity>().data();
-        if constexpr (has_tangential) in.history = pairs_.history_data();
+        const auto in = contact_input(pairs_);
         // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
         // axes the separations need no minimum-image test (see kick_drift_kick).
         const bool periodic = domain_.any_periodic();
@@ -607,8 +578,6 @@ private:
     template <bool track>
     void compute_forces_impl() {
         auto& f = particles_.template get<field::Force>();
-        const auto& x = particles_.position();
-        const auto& r = particles_.radius();
         if (!accumulators_cleared_) {  // else kick_drift_kick() cleared them in its pass
             f.assign(particles_.size(), SV::Zero());
             if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, Real>());
@@ -616,35 +585,10 @@ private:
         accumulators_cleared_ = false;
         pair_forces<track>();
         if constexpr (has_walls) {
-            for (auto& wall : walls_) wall.force = V::Zero();
-            for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
-                const auto [i, w] = wall_contacts_.pairs()[c];
-                auto& wall = walls_[w];
-                const double s = wall.distance(convert<double>(x[i])), a = r[i];
-                if (s >= a) {
-                    if constexpr (has_tangential) {
-                        History& h = wall_contacts_.history(c);
-                        if (h.touching) [[unlikely]] {  // opened in the last step: see opening_correction
-                            const V force = detail::opening_correction(law_, h, wall.normal, a - s,
-                                                                      wall.normal.dot(wall_relative_velocity(i, wall)), dt_);
-                            f[i] += convert<Real>(force);
-                            wall.force -= force;
-                            if constexpr (rotation)
-                                particles_.template get<field::Torque>()[i] -= convert<Real>(A(a * T::cross(wall.normal, force)));
-                        }
-                        h = History{};
-                    }
-                    continue;
-                }
-                const V& n = wall.normal;
-                const V vr = wall_relative_velocity(i, wall);
-                const auto resp = detail::respond<track>(law_, dt_, n, a - s, n.dot(vr), vr, history_of(wall_contacts_, c),
-                                                         step_books_, wall.frictionless);
-                f[i] += convert<Real>(resp.force);
-                wall.force -= resp.force;
-                if constexpr (rotation)
-                    particles_.template get<field::Torque>()[i] -= convert<Real>(A(a * T::cross(n, resp.tangential)));
-            }
+            SA* torque = nullptr;
+            if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
+            detail::wall_forces<track, rotation>(contact_input(wall_contacts_), wall_contacts_.size(), walls_, law_, dt_, f.data(),
+                                                 torque, step_books_);
         }
         std::apply([&](const auto&... bf) { (apply_body_force<track>(bf), ...); }, body_forces_);
         if constexpr (track) close_step_books();
@@ -700,33 +644,10 @@ private:
     // evaluation: with velocity Verlet a force acts from half a step before its evaluation to
     // half a step after, so the trapezoid keeps the books second order and level with the state.
     void close_step_books() {
-        if constexpr (has_walls) book_wall_work();
+        if constexpr (has_walls) detail::book_wall_work(walls_, domain_, wall_books_, books_);
         books_.add_mean(step_books_, previous_step_books_);
         previous_step_books_ = step_books_;
         step_books_ = {};
-    }
-
-    // Work of the walls between the last two evaluations (trapezoid in the wall force).
-    void book_wall_work() {
-        wall_books_.resize(walls_.size());
-        for (std::size_t w = 0; w < walls_.size(); ++w) {
-            const auto& wall = walls_[w];
-            auto& last = wall_books_[w];
-            const double push = wall.force.dot(wall.normal);  // < 0: the particles push it outward
-            const double moved = wall.offset - last.offset;
-            if (const auto* s = std::get_if<StressControlled>(&wall.motion)) {
-                // The wall is part of the system: the pressure does work, its damper dissipates.
-                const double area = walls_.area(wall, domain_);
-                books_.work_by_walls += s->pressure * 0.5 * (area + last.area) * moved;
-                books_.dissipated_walls += s->damping * s->damped_speed(wall.speed) * moved;
-                last.area = area;
-            } else {
-                // A driven wall does work -F_wall . displacement on the particles.
-                books_.work_by_walls -= 0.5 * (push + last.push) * moved;
-            }
-            last.offset = wall.offset;
-            last.push = push;
-        }
     }
 
     // v_ij of Eq. 25 of a pair (see detail::contact_point_velocity).
@@ -739,11 +660,21 @@ private:
     }
     template <class W>
     V wall_relative_velocity(Index i, const W& wall) const {
-        V vr = convert<double>(particles_.velocity()[i]) - wall.speed * wall.normal;
-        if constexpr (rotation)
-            vr += T::cross(wall.normal, A(double(particles_.radius()[i]) *
-                                          convert<double>(particles_.template get<field::AngularVelocity>()[i])));
-        return vr;
+        return detail::wall_point_velocity<rotation>(particle_input(), i, wall);
+    }
+
+    // The arrays the pair and wall loops read: the particles' (particle_input) and a contact list's.
+    detail::ContactLoopInput<dim, Real, History> particle_input() const {
+        detail::ContactLoopInput<dim, Real, History> in{particles_.position().data(), particles_.velocity().data(),
+                                                        particles_.radius().data(), nullptr, nullptr, nullptr};
+        if constexpr (rotation) in.w = particles_.template get<field::AngularVelocity>().data();
+        return in;
+    }
+    detail::ContactLoopInput<dim, Real, History> contact_input(ContactList<History>& list) {
+        auto in = particle_input();
+        in.pair = list.pairs().data();
+        if constexpr (has_tangential) in.history = list.history_data();
+        return in;
     }
 
     template <class List>
@@ -788,9 +719,7 @@ private:
         if constexpr (has_walls) {
             auto& wn = wall_contacts_.scratch();
             wn.clear();
-            for (Index i = 0; i < x.size(); ++i)
-                for (Index w = 0; w < walls_.size(); ++w)
-                    if (walls_[w].distance(convert<double>(x[i])) < double(r[i]) + skin_) wn.push_back({i, w});
+            detail::find_wall_candidates(x, r, walls_, skin_, wn);
             wall_contacts_.commit_scratch();
             wall_reference_.resize(walls_.size());
             for (std::size_t w = 0; w < walls_.size(); ++w) wall_reference_[w] = walls_[w].offset;
@@ -846,10 +775,7 @@ private:
         previous_torque_;
     std::vector<double> wall_reference_;
     EnergyBooks books_, step_books_, previous_step_books_;
-    struct WallBooks {
-        double offset = 0, push = 0, area = 0;
-    };
-    std::vector<WallBooks> wall_books_;
+    std::vector<detail::WallBook> wall_books_;  // the walls as the books saw them at the last evaluation
     double initial_energy_ = 0.0;
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
     double evaluated_dt_ = 0.0;  // the step of the last force evaluation, which advanced the springs

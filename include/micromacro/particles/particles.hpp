@@ -6,6 +6,7 @@
 // Rotational fields (angular velocity, torque, moment of inertia) exist only when the scene
 // needs rotation (`with_rotation`); asking for them otherwise is a compile error, so a
 // frictionless scene carries no rotational storage and never updates it.
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -64,6 +65,42 @@ public:
         return same;
     }
     bool empty() const { return position_.empty(); }
+
+    /// The largest 1/m, the lightest particle's (0 without particles).
+    double largest_inverse_mass() const {
+        double largest = 0.0;
+        for (Real inv : inverse_mass_) largest = std::max(largest, double(inv));
+        return largest;
+    }
+    /// The largest tangential mobility of a contact point on a particle's surface: 1/m + a^2/I
+    /// with rotation, 1/m without (0 without particles).
+    double largest_contact_point_mobility() const {
+        double largest = 0.0;
+        for (std::size_t i = 0; i < size(); ++i) {
+            double mobility = inverse_mass_[i];
+            if constexpr (with_rotation) {
+                const double a = radius_[i];
+                mobility += a * a * double(inverse_inertia_[i]);
+            }
+            largest = std::max(largest, mobility);
+        }
+        return largest;
+    }
+
+    /// Calls refuse(message parts...) when a restored particle set does not hold together: fields
+    /// of different lengths, a position or velocity that is not finite, a radius or mass that is
+    /// not finite and positive.
+    template <class Refuse>
+    void check_restored(Refuse&& refuse) const {
+        if (!consistent()) refuse("particle fields of different lengths");
+        for (std::size_t i = 0; i < size(); ++i) {
+            if (!convert<double>(position_[i]).allFinite() || !convert<double>(velocity_[i]).allFinite())
+                refuse("particle ", i, " has a position or velocity that is not finite");
+            if (!(double(radius_[i]) > 0.0) || !(double(mass_[i]) > 0.0) || !std::isfinite(double(radius_[i])) ||
+                !std::isfinite(double(mass_[i])))
+                refuse("particle ", i, " has radius ", radius_[i], " and mass ", mass_[i]);
+        }
+    }
 
     /// Adds a particle at rest and returns its index. With rotation, `inertia` <= 0 selects the
     /// sphere value 2/5 m a^2.

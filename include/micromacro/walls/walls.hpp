@@ -148,6 +148,27 @@ public:
         return field;
     }
 
+    /// Maps every wall by the affine map x -> F x (planes map to planes); the mapped plane is the
+    /// new reference of Eq. 17.
+    void deform(const Eigen::Matrix<double, dim, dim>& F) {
+        const Eigen::Matrix<double, dim, dim> normal_map = F.inverse().transpose();
+        for (auto& w : walls_) {
+            const V point = F * (w.offset * w.normal);
+            w.normal = (normal_map * w.normal).normalized();
+            w.offset = w.normal.dot(point);
+            w.initial_offset = w.offset;
+        }
+    }
+
+    /// Calls refuse(message parts...) for the first wall whose position or speed is not finite
+    /// (a restored state that must not run).
+    template <class Refuse>
+    void check_restored(Refuse&& refuse) const {
+        for (std::size_t w = 0; w < walls_.size(); ++w)
+            if (!walls_[w].normal.allFinite() || !std::isfinite(walls_[w].offset) || !std::isfinite(walls_[w].speed))
+                refuse("wall ", w, " has a position or speed that is not finite");
+    }
+
     template <class Archive>
     void serialize(Archive& ar) {
         std::size_t n = walls_.size();

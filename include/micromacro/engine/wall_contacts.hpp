@@ -1,0 +1,75 @@
+#pragma once
+// The walls' side of the force evaluation: which particles are wall candidates, the relative
+// velocity of a particle's contact point on a wall, and the one wall loop (the wall is an
+// infinite-mass partner and collects the opposite force).
+#include <cstddef>
+#include <vector>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/energy.hpp"
+#include "micromacro/core/index.hpp"
+#include "micromacro/core/inline.hpp"
+#include "micromacro/engine/contact_response.hpp"
+#include "micromacro/engine/pair_loop.hpp"
+#include "micromacro/walls/walls.hpp"
+
+namespace micromacro::detail {
+
+/// Every (particle, wall) closer than its radius plus `skin`, in particle order.
+template <int dim, class Real>
+void find_wall_candidates(const std::vector<Vec<dim, Real>>& x, const std::vector<Real>& r, const Walls<dim>& walls, double skin,
+                          std::vector<IndexPair>& out) {
+    for (Index i = 0; i < x.size(); ++i)
+        for (Index w = 0; w < walls.size(); ++w)
+            if (walls[w].distance(convert<double>(x[i])) < double(r[i]) + skin) out.push_back({i, w});
+}
+
+/// v_ij of Eq. 25 for particle i on a wall: its contact point's velocity relative to the wall's.
+template <bool rotation, int dim, class Real, class History>
+MICROMACRO_INLINE Vec<dim> wall_point_velocity(const ContactLoopInput<dim, Real, History>& in, Index i, const Wall<dim>& wall) {
+    Vec<dim> vr = convert<double>(in.v[i]) - wall.speed * wall.normal;
+    if constexpr (rotation)
+        vr += DimTraits<dim>::cross(wall.normal, Angular<dim>(double(in.r[i]) * convert<double>(in.w[i])));
+    return vr;
+}
+
+/// The wall loop over the wall candidates of `in`: the law on each touching one (the normal
+/// part only on a frictionless wall), the rest of the last impulse of one that opened (see
+/// opening_correction), and each wall's force, the opposite of what its particles receive.
+template <bool track, bool rotation, int dim, class Real, class Law, class History>
+void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Walls<dim>& walls, const Law& law, double dt,
+                 Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque, EnergyBooks& books) {
+    using V = Vec<dim>;
+    using A = Angular<dim>;
+    using T = DimTraits<dim>;
+    for (auto& wall : walls) wall.force = V::Zero();
+    for (std::size_t c = 0; c < count; ++c) {
+        const auto [i, w] = in.pair[c];
+        auto& wall = walls[w];
+        const double s = wall.distance(convert<double>(in.x[i])), a = in.r[i];
+        if (s >= a) {
+            if constexpr (Law::has_tangential) {
+                History& h = in.history[c];
+                if (h.touching) [[unlikely]] {  // opened in the last step: see opening_correction
+                    const V force = opening_correction(law, h, wall.normal, a - s,
+                                                       wall.normal.dot(wall_point_velocity<rotation>(in, i, wall)), dt);
+                    f[i] += convert<Real>(force);
+                    wall.force -= force;
+                    if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(wall.normal, force)));
+                }
+                h = History{};
+            }
+            continue;
+        }
+        const V& n = wall.normal;
+        const V vr = wall_point_velocity<rotation>(in, i, wall);
+        History* h = nullptr;
+        if constexpr (Law::has_tangential) h = in.history + c;
+        const auto resp = respond<track>(law, dt, n, a - s, n.dot(vr), vr, h, books, wall.frictionless);
+        f[i] += convert<Real>(resp.force);
+        wall.force -= resp.force;
+        if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(n, resp.tangential)));
+    }
+}
+
+}  // namespace micromacro::detail
