@@ -25,10 +25,12 @@
 #include "micromacro/core/error.hpp"
 #include "micromacro/core/inline.hpp"
 #include "micromacro/core/parallel.hpp"
+#include "micromacro/engine/contact_analysis.hpp"
 #include "micromacro/engine/contact_response.hpp"
 #include "micromacro/engine/contact_view.hpp"
 #include "micromacro/engine/pair_loop.hpp"
 #include "micromacro/engine/particle_pass.hpp"
+#include "micromacro/engine/spring_adjustments.hpp"
 #include "micromacro/engine/stability.hpp"
 #include "micromacro/engine/thread_shares.hpp"
 #include "micromacro/engine/wall_contacts.hpp"
@@ -333,18 +335,9 @@ public:
 
     EnergyState energy() const {
         EnergyState e;
-        const auto& v = particles_.velocity();
-        for (std::size_t i = 0; i < particles_.size(); ++i)
-            e.kinetic_translational += 0.5 * double(particles_.mass()[i]) * convert<double>(v[i]).squaredNorm();
-        if constexpr (rotation) {
-            const auto& w = particles_.template get<field::AngularVelocity>();
-            const auto& I = particles_.template get<field::Inertia>();
-            for (std::size_t i = 0; i < particles_.size(); ++i)
-                e.kinetic_rotational += 0.5 * double(I[i]) * T::squared_norm(convert<double>(w[i]));
-        }
-        if constexpr (has_walls)
-            for (const auto& w : walls_)
-                if (const auto* s = std::get_if<StressControlled>(&w.motion)) e.kinetic_walls += 0.5 * s->mass * w.speed * w.speed;
+        e.kinetic_translational = particles_.translational_kinetic_energy();
+        e.kinetic_rotational = particles_.rotational_kinetic_energy();
+        if constexpr (has_walls) e.kinetic_walls = walls_.kinetic_energy();
         for_each_contact([&](const ContactView<dim>& c) {
             e.elastic_normal += law_.normal.elastic_energy(c.geometry.overlap);
             e.elastic_tangential += c.elastic_energy - law_.normal.elastic_energy(c.geometry.overlap);
@@ -380,25 +373,8 @@ public:
     /// wall contacts. Forces are those of the present state (see CundallStrack::current_force).
     template <class F>
     void for_each_contact(F&& f) const {
-        const auto& x = particles_.position();
-        const auto& r = particles_.radius();
-        for (std::size_t c = 0; c < pairs_.size(); ++c) {
-            const auto [i, j] = pairs_.pairs()[c];
-            const V d = domain_.separation(convert<double>(x[i]), convert<double>(x[j]));
-            const double dist = d.norm(), reach = double(r[i]) + double(r[j]);
-            if (!(dist < reach) || dist == 0.0) continue;
-            const V n = d * (1.0 / dist);  // as the force loop computes it
-            f(detail::contact_view(law_, i, j, false, n, reach - dist, d, relative_velocity(i, j, n), history_of(pairs_, c)));
-        }
-        if constexpr (has_walls)
-            for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
-                const auto [i, w] = wall_contacts_.pairs()[c];
-                const auto& wall = walls_[w];
-                const double s = wall.distance(convert<double>(x[i])), a = r[i];
-                if (!(s < a)) continue;
-                f(detail::contact_view(law_, i, w, true, wall.normal, a - s, V(s * wall.normal), wall_relative_velocity(i, wall),
-                                       history_of(wall_contacts_, c), wall.frictionless));
-            }
+        const auto [walls, wall_contacts] = wall_parts();
+        detail::visit_contacts<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, f);
     }
 
     /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes),
@@ -411,20 +387,8 @@ public:
         const Domain<dim> deformed = domain_.deformed(F);
         auto& x = particles_.template get<field::Position>();
         if constexpr (has_tangential) {
-            auto load = [&](History& h, const V& l) {
-                const V n = l.normalized(), moved = F * l - l;
-                law_.tangential.displace(V(moved - n * n.dot(moved)), h);
-            };
-            for (std::size_t c = 0; c < pairs_.size(); ++c) {
-                const auto [i, j] = pairs_.pairs()[c];
-                load(pairs_.history(c), domain_.separation(convert<double>(x[i]), convert<double>(x[j])));
-            }
-            if constexpr (has_walls)
-                for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
-                    const auto [i, w] = wall_contacts_.pairs()[c];
-                    if (!walls_[w].frictionless)
-                        load(wall_contacts_.history(c), V(walls_[w].distance(convert<double>(x[i])) * walls_[w].normal));
-                }
+            const auto [walls, wall_contacts] = wall_parts();
+            detail::load_springs_affinely(F, particle_input(), domain_, law_, pairs_, walls, wall_contacts);
         }
         if constexpr (has_walls) walls_.deform(F);
         for (auto& p : x) {
@@ -513,7 +477,7 @@ public:
         std::size_t b = particles_.size() * particles_.bytes_per_particle() + pairs_.bytes() +
                         reference_.capacity() * sizeof(SV);
         if constexpr (has_walls) b += wall_contacts_.bytes();
-        for (const auto& list : spills_) b += list.capacity() * sizeof(Spill);
+        b += pair_loop_.bytes();
         if constexpr (Integrator::keeps_previous_forces) {
             b += previous_force_.capacity() * sizeof(SV);
             if constexpr (rotation) b += previous_torque_.capacity() * sizeof(SA);
@@ -528,51 +492,13 @@ public:
     }
 
 private:
-    using Spill = detail::Spill<dim, Real, rotation>;
-
     // All pair forces, on threads_ threads (see engine/thread_shares.hpp).
     template <bool track>
     void pair_forces() {
-        SV* f = particles_.template get<field::Force>().data();
         SA* torque = nullptr;
         if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
-        const std::size_t count = pairs_.size();
-        const auto n = static_cast<Index>(particles_.size());
-        const int shares = active_threads();
-        thread_books_.assign(shares, EnergyBooks{});
-        coincident_.assign(shares, IndexPair{0, 0});
-        spills_.resize(shares);
-        for (auto& list : spills_) list.clear();
-        const auto in = contact_input(pairs_);
-        // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
-        // axes the separations need no minimum-image test (see kick_drift_kick).
-        const bool periodic = domain_.any_periodic();
-        auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
-            if (periodic)
-                detail::pair_loop<track, true, rotation>(in, domain_, law_, dt_, begin, end, f, torque, thread_books_[t],
-                                                         coincident_[t], owned_end, spills_[t]);
-            else
-                detail::pair_loop<track, false, rotation>(in, domain_, law_, dt_, begin, end, f, torque, thread_books_[t],
-                                                          coincident_[t], owned_end, spills_[t]);
-        };
-        if (shares == 1) {
-            share(0, count, 0, n);
-        } else {
-            const IndexPair* pair = pairs_.pairs().data();
-            detail::split_shares(pair, count, shares, share_start_);
-            auto first_particle = [&](int t) { return share_start_[t] < count ? pair[share_start_[t]].i : n; };
-            MICROMACRO_OMP(omp parallel num_threads(shares)) {
-                const int t = detail::thread_number();
-                const Index owned_begin = t == 0 ? 0 : first_particle(t), owned_end = t + 1 == shares ? n : first_particle(t + 1);
-                share(share_start_[t], share_start_[t + 1], t, owned_end);
-                MICROMACRO_OMP(omp barrier)
-                detail::add_spills(spills_, t, owned_begin, owned_end, f, torque);
-            }
-        }
-        for (const IndexPair& c : coincident_)
-            if (c.i != c.j) report_coincident(c.i, c.j);
-        if constexpr (track)
-            for (const EnergyBooks& b : thread_books_) step_books_.add(b);  // in thread order
+        pair_loop_.template run<track>(contact_input(pairs_), pairs_.size(), static_cast<Index>(particles_.size()), active_threads(),
+                                       domain_, law_, dt_, particles_.template get<field::Force>().data(), torque, step_books_);
     }
 
     template <bool track>
@@ -621,22 +547,8 @@ private:
     void step_back_springs() {
         if constexpr (has_tangential) {
             if (!(evaluated_dt_ > 0.0)) return;  // nothing evaluated yet
-            const auto& x = particles_.position();
-            for (std::size_t c = 0; c < pairs_.size(); ++c) {
-                const auto [i, j] = pairs_.pairs()[c];
-                const V d = domain_.separation(convert<double>(x[i]), convert<double>(x[j]));
-                const double dist = d.norm();
-                if (dist == 0.0) continue;
-                const V n = d * (1.0 / dist);
-                law_.tangential.step_back(n, relative_velocity(i, j, n), evaluated_dt_, dt_, pairs_.history(c));
-            }
-            if constexpr (has_walls)
-                for (std::size_t c = 0; c < wall_contacts_.size(); ++c) {
-                    const auto [i, w] = wall_contacts_.pairs()[c];
-                    const auto& wall = walls_[w];
-                    law_.tangential.step_back(wall.normal, wall_relative_velocity(i, wall), evaluated_dt_, dt_,
-                                              wall_contacts_.history(c));
-                }
+            const auto [walls, wall_contacts] = wall_parts();
+            detail::step_back_springs<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, evaluated_dt_, dt_);
         }
     }
 
@@ -650,17 +562,14 @@ private:
         step_books_ = {};
     }
 
-    // v_ij of Eq. 25 of a pair (see detail::contact_point_velocity).
-    V relative_velocity(Index i, Index j, const V& n) const {
-        const SA* w = nullptr;
-        if constexpr (rotation) w = particles_.template get<field::AngularVelocity>().data();
-        const auto& v = particles_.velocity();
-        const auto& r = particles_.radius();
-        return detail::contact_point_velocity<rotation>(n, V(convert<double>(v[i]) - convert<double>(v[j])), w, i, j, r[i], r[j]);
+    // The walls and their contact list, both null in a scene without walls.
+    std::pair<const Walls<dim>*, const ContactList<History>*> wall_parts() const {
+        if constexpr (has_walls) return {&walls_, &wall_contacts_};
+        else return {nullptr, nullptr};
     }
-    template <class W>
-    V wall_relative_velocity(Index i, const W& wall) const {
-        return detail::wall_point_velocity<rotation>(particle_input(), i, wall);
+    std::pair<const Walls<dim>*, ContactList<History>*> wall_parts() {
+        if constexpr (has_walls) return {&walls_, &wall_contacts_};
+        else return {nullptr, nullptr};
     }
 
     // The arrays the pair and wall loops read: the particles' (particle_input) and a contact list's.
@@ -675,12 +584,6 @@ private:
         in.pair = list.pairs().data();
         if constexpr (has_tangential) in.history = list.history_data();
         return in;
-    }
-
-    template <class List>
-    static auto* history_of(List& list, std::size_t c) {
-        if constexpr (has_tangential) return &list.history(c);
-        else return static_cast<History*>(nullptr);
     }
 
     template <class F>
@@ -727,11 +630,6 @@ private:
         ++rebuilds_;
     }
 
-    [[noreturn]] void report_coincident(Index i, Index j) const {
-        detail::throw_input_error("particles ", i, " and ", j, " have coincident centres (at distance 0), so their "
-                                  "contact normal is undefined; move one of them");
-    }
-
     [[noreturn]] void report_blow_up() const {
         const auto& x = particles_.position();
         std::size_t bad = 0;  // the first particle whose displacement overflowed or is NaN
@@ -762,13 +660,8 @@ private:
     ContactList<History> pairs_;
     [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
     std::vector<SV> reference_;
-    // Per-thread scratch of pair_forces(): where each share starts, and what it adds to later
-    // threads' particles (see Spill).
     int threads_ = 1;
-    std::vector<std::size_t> share_start_;
-    std::vector<std::vector<Spill>> spills_;
-    std::vector<EnergyBooks> thread_books_;
-    std::vector<IndexPair> coincident_;
+    detail::ThreadedPairLoop<dim, Real, rotation> pair_loop_;
     // Forces of the previous evaluation, for integrators that correct with the force change.
     [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<SV>, NoHistory> previous_force_;
     [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<SA>, NoHistory>

@@ -9,6 +9,10 @@
 #include <cstddef>
 #include <vector>
 
+#include "micromacro/core/domain.hpp"
+#include "micromacro/core/energy.hpp"
+#include "micromacro/core/error.hpp"
+
 #include "micromacro/core/index.hpp"
 #include "micromacro/core/parallel.hpp"
 #include "micromacro/engine/pair_loop.hpp"
@@ -39,5 +43,69 @@ void add_spills(const std::vector<std::vector<Spill<dim, Real, rotation>>>& spil
             if constexpr (rotation) torque[s.particle] -= s.torque;
         }
 }
+
+/// All pair forces of a contact list on `shares` threads (one runs serially): the shares, the
+/// pair loop on each, the spills added by their owners after a barrier, the energy books summed
+/// in thread order. Keeps the per-thread scratch from one evaluation to the next.
+template <int dim, class Real, bool rotation>
+class ThreadedPairLoop {
+public:
+    /// Adds the forces and torques of the candidates in `in` (`count` of them, on `particles`
+    /// particles) into f and torque, and what they dissipate into `books`.
+    template <bool track, class Law, class History>
+    void run(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Index particles, int shares,
+             const Domain<dim>& domain, const Law& law, double dt, Vec<dim, Real>* f, Angular<dim, Real>* torque,
+             EnergyBooks& books) {
+        const Index n = particles;
+        thread_books_.assign(shares, EnergyBooks{});
+        coincident_.assign(shares, IndexPair{0, 0});
+        spills_.resize(shares);
+        for (auto& list : spills_) list.clear();
+        // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
+        // axes the separations need no minimum-image test.
+        const bool periodic = domain.any_periodic();
+        auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
+            if (periodic)
+                pair_loop<track, true, rotation>(in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t],
+                                                 owned_end, spills_[t]);
+            else
+                pair_loop<track, false, rotation>(in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t],
+                                                  owned_end, spills_[t]);
+        };
+        if (shares == 1) {
+            share(0, count, 0, n);
+        } else {
+            const IndexPair* pair = in.pair;
+            split_shares(pair, count, shares, share_start_);
+            auto first_particle = [&](int t) { return share_start_[t] < count ? pair[share_start_[t]].i : n; };
+            MICROMACRO_OMP(omp parallel num_threads(shares)) {
+                const int t = thread_number();
+                const Index owned_begin = t == 0 ? 0 : first_particle(t), owned_end = t + 1 == shares ? n : first_particle(t + 1);
+                share(share_start_[t], share_start_[t + 1], t, owned_end);
+                MICROMACRO_OMP(omp barrier)
+                add_spills(spills_, t, owned_begin, owned_end, f, torque);
+            }
+        }
+        for (const IndexPair& c : coincident_)
+            if (c.i != c.j)
+                throw_input_error("particles ", c.i, " and ", c.j, " have coincident centres (at distance 0), so their "
+                                  "contact normal is undefined; move one of them");
+        if constexpr (track)
+            for (const EnergyBooks& b : thread_books_) books.add(b);  // in thread order
+    }
+
+    /// Bytes of the spill lists, capacities counted.
+    std::size_t bytes() const {
+        std::size_t b = 0;
+        for (const auto& list : spills_) b += list.capacity() * sizeof(Spill<dim, Real, rotation>);
+        return b;
+    }
+
+private:
+    std::vector<std::size_t> share_start_;
+    std::vector<std::vector<Spill<dim, Real, rotation>>> spills_;
+    std::vector<EnergyBooks> thread_books_;
+    std::vector<IndexPair> coincident_;
+};
 
 }  // namespace micromacro::detail

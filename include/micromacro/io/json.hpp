@@ -44,7 +44,7 @@ nlohmann::ordered_json vector_json(const V& v) {
     return out;
 }
 
-/// Every quantity of a box average (SI units; see the README for the keys).
+/// Every quantity of a box average (SI units; docs/analyze-packing.md lists the keys).
 template <int dim>
 nlohmann::ordered_json to_json(const MicroMacro<dim>& m) {
     nlohmann::ordered_json j;

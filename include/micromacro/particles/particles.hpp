@@ -87,6 +87,21 @@ public:
         return largest;
     }
 
+    /// sum 1/2 m v^2.
+    double translational_kinetic_energy() const {
+        double e = 0.0;
+        for (std::size_t i = 0; i < size(); ++i) e += 0.5 * double(mass_[i]) * convert<double>(velocity_[i]).squaredNorm();
+        return e;
+    }
+    /// sum 1/2 I w^2 (0 without rotation).
+    double rotational_kinetic_energy() const {
+        double e = 0.0;
+        if constexpr (with_rotation)
+            for (std::size_t i = 0; i < size(); ++i)
+                e += 0.5 * double(inertia_[i]) * DimTraits<dim>::squared_norm(convert<double>(angular_velocity_[i]));
+        return e;
+    }
+
     /// Calls refuse(message parts...) when a restored particle set does not hold together: fields
     /// of different lengths, a position or velocity that is not finite, a radius or mass that is
     /// not finite and positive.

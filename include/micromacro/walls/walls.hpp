@@ -160,6 +160,14 @@ public:
         }
     }
 
+    /// The kinetic energy 1/2 m_w v^2 of the stress-controlled walls (the others have no mass).
+    double kinetic_energy() const {
+        double e = 0.0;
+        for (const auto& w : walls_)
+            if (const auto* s = std::get_if<StressControlled>(&w.motion)) e += 0.5 * s->mass * w.speed * w.speed;
+        return e;
+    }
+
     /// Calls refuse(message parts...) for the first wall whose position or speed is not finite
     /// (a restored state that must not run).
     template <class Refuse>
