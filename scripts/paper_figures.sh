@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Regenerates the README's paper figures and table: runs the paper preset (unless RUN names an
+# Regenerates the paper reproduction's figures and table (README, examples/biaxial/README.md): runs the paper preset (unless RUN names an
 # existing run directory) and renders into docs/figures. Needs a build (scripts/setup.sh run) and,
 # without a display, xvfb-run.
 #   scripts/paper_figures.sh            # runs the paper preset into runs/paper (about 3 minutes)

@@ -38,7 +38,7 @@ struct Config {
     double dt_fraction = 50.0;     // dt = t_c / dt_fraction, t_c of two mean particles
     unsigned long long seed = 1;
     std::string damping = "affine"; // while loading: lab (Eq. 30), affine (against the walls' mean flow) or local (Cundall)
-    double gamma_b = 5e-2;          // lab or affine damping while loading (kg/s); see the README for the measurements
+    double gamma_b = 5e-2;          // lab or affine damping while loading (kg/s); see docs/loading-damping.md for the measurements
     double local_damping = 0.2;    // alpha of the local damping while loading
     double gamma_b_prepare = 1e-3; // background damping while preparing (kg/s); more slows the walls down
     double wall_mass = 1e-4;       // kg

@@ -1,4 +1,4 @@
-// biaxial_summary: the key numbers of a biaxial run as a Markdown table (the README's table).
+// biaxial_summary: the key numbers of a biaxial run as a Markdown table (the table of examples/biaxial/README.md).
 //
 //   biaxial_summary runs/paper
 //

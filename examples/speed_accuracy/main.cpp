@@ -387,7 +387,7 @@ int main(int argc, char** argv) {
             if (!(tiny && factor > 2))
                 variants.push_back({"loading period", format("T = %g s", factor * base.period),
                                     with([&](auto& c) { c.period = factor * base.period; })});
-        // The loading's damping (the default: affine, 5e-2 kg/s, README "Damping during the loading").
+        // The loading's damping (the default: affine, 5e-2 kg/s, examples/biaxial/README.md, "Damping during the loading").
         for (double g : {0.0, 1e-2, 2e-1})
             variants.push_back({"damping", format("affine, gamma_b = %g kg/s", g), with([&](auto& c) { c.gamma_b = g; })});
         variants.push_back({"damping", "Eq. 30 (lab) 1e-4 kg/s, Eq. 18 gamma_w = 0.63 kg/s (the paper's)", with([&](auto& c) {
