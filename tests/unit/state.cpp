@@ -4,11 +4,15 @@
 #define BOOST_TEST_MODULE unit_state
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <iterator>
 #include <limits>
 #include <random>
 
+#include "support/expect_error.hpp"
 #include "support/scenes.hpp"
 
 using namespace mmtest;
@@ -175,4 +179,36 @@ BOOST_AUTO_TEST_CASE(restored_contents_are_checked) {
         BOOST_TEST(std::string(e.what()).find("particle 3 has a position or velocity that is not finite") != std::string::npos,
                    e.what());
     }
+}
+
+// State files name each wall's motion. A file that names a motion this build does not know (a
+// later version's, or a damaged name under a recomputed checksum) is refused with the name, and
+// the simulation it was loaded into is left as it was.
+BOOST_AUTO_TEST_CASE(unknown_wall_motion_is_refused) {
+    auto sim = make_scene<2>();
+    sim.run(10);
+    const auto file = fs::temp_directory_path() / "micromacro_state_unknown_motion.bin";
+    mm::io::save_state(sim, file);
+    std::vector<char> bytes;
+    {
+        std::ifstream in(file, std::ios::binary);
+        bytes.assign(std::istreambuf_iterator<char>(in), {});
+    }
+    const std::string known = "stress-controlled", unknown = "stress-sideways!!";
+    BOOST_REQUIRE(known.size() == unknown.size());
+    const auto at = std::search(bytes.begin(), bytes.end(), known.begin(), known.end());
+    BOOST_REQUIRE(at != bytes.end());
+    std::copy(unknown.begin(), unknown.end(), at);
+    mm::io::detail::Checksum sum;  // a valid checksum, so that the name itself is what is refused
+    sum.add(bytes.data(), bytes.size() - sizeof(std::uint64_t));
+    std::memcpy(bytes.data() + bytes.size() - sizeof(std::uint64_t), &sum.value, sizeof sum.value);
+    {
+        std::ofstream out(file, std::ios::binary | std::ios::trunc);
+        out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    }
+    const double time_before = sim.time();
+    expect_error([&] { mm::io::load_state(sim, file); }, {"stress-sideways!!", "does not know", "stress-controlled"});
+    BOOST_TEST(sim.time() == time_before);
+    BOOST_TEST(sim.walls()[3].motion.index() == 2u);  // still the stress-controlled wall
+    fs::remove(file);
 }

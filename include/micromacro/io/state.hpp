@@ -26,7 +26,8 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 // 2: the kind of state; a checksum at the end
 // 3: tangential springs with the start of their next step (the half-step velocity)
 // 4: a sliding spring's trial force (for the step that finds its contact open)
-inline constexpr std::uint32_t state_version = 4;
+// 5: wall motions by name
+inline constexpr std::uint32_t state_version = 5;
 
 /// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it
 /// (each step is a bijection of the running value); other changes go unseen with chance 2^-64.

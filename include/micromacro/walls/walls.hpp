@@ -11,6 +11,10 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <string_view>
+#include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -21,11 +25,16 @@
 
 namespace micromacro {
 
-struct FixedMotion {};
+// Each motion has a name, which state files record (a file naming a motion this build does not
+// know is refused).
+struct FixedMotion {
+    static constexpr std::string_view name = "fixed";
+};
 
 /// Eq. 17: h(t) = h0 + travel/2 (1 - cos(omega (t - start))) for 0 <= omega (t - start) <= pi,
 /// omega = 2 pi / period; fixed at h0 + travel afterwards.
 struct StrainControlled {
+    static constexpr std::string_view name = "strain-controlled";
     double travel;          ///< distance moved along the inward normal (m); > 0 compresses
     double period;          ///< T of Eq. 17 (s); the motion takes T/2
     double start_time = 0;  ///< time at which the motion starts (s)
@@ -40,6 +49,7 @@ struct StrainControlled {
 /// times follow_time times the wall's acceleration), oscillations faster than 1 / follow_time
 /// are damped as by Eq. 18.
 struct StressControlled {
+    static constexpr std::string_view name = "stress-controlled";
     double pressure;  ///< p (N/m in 2D, Pa in 3D)
     double mass;      ///< m_w (kg)
     double damping;   ///< gamma_w (kg/s)
@@ -189,11 +199,11 @@ public:
             ar.value(w.initial_offset);
             ar.value(w.force);
             ar.value(w.frictionless);
-            std::size_t kind = w.motion.index();
-            ar.value(kind);
-            if (kind == 0) w.motion = FixedMotion{};
-            else if (kind == 1) w.motion = ar.template restored<StrainControlled>(w.motion);
-            else w.motion = ar.template restored<StressControlled>(w.motion);
+            std::vector<char> kind;  // the motion's name, then its parameters and state
+            std::visit([&](const auto& m) { kind.assign(m.name.begin(), m.name.end()); }, w.motion);
+            ar.array(kind);
+            w.motion = restored_motion(ar, w.motion, std::string_view(kind.data(), kind.size()),
+                                       std::make_index_sequence<std::variant_size_v<WallMotion>>{});
         }
     }
 
@@ -247,6 +257,28 @@ public:
     }
 
 private:
+    // The motion named `name`, with its parameters and state visited by the archive (written from
+    // `current` when saving); a name no motion has is refused.
+    template <class Archive, std::size_t... k>
+    static WallMotion restored_motion(Archive& ar, WallMotion& current, std::string_view name, std::index_sequence<k...>) {
+        WallMotion out;
+        bool found = false;
+        auto try_one = [&]<class M>(M*) {
+            if (found || name != M::name) return;
+            found = true;
+            if constexpr (std::is_empty_v<M>) out = M{};
+            else out = ar.template restored<M>(current);
+        };
+        (try_one(static_cast<std::variant_alternative_t<k, WallMotion>*>(nullptr)), ...);
+        if (!found) {
+            std::string known;
+            ((known += (k ? ", " : "") + std::string(std::variant_alternative_t<k, WallMotion>::name)), ...);
+            detail::throw_input_error("a wall moves by '", name, "', a motion this build does not know (it knows ", known,
+                                      "); the state was written by another version of micromacro or damaged");
+        }
+        return out;
+    }
+
     static void validate(const Wall<dim>& w) {
         if (const auto* s = std::get_if<StrainControlled>(&w.motion)) {
             detail::require_positive(s->period, "StrainControlled::period", "give the period T of Eq. 17 in s");
