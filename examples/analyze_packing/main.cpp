@@ -19,6 +19,7 @@
 #include <CLI/CLI.hpp>
 
 #include "../command_line.hpp"
+#include "../standard_output.hpp"
 
 #include <micromacro/io/json.hpp>
 #include <micromacro/io/packing_files.hpp>
@@ -142,8 +143,8 @@ int main(int argc, char** argv) {
         const auto json = dim == 2 ? analyze<2>(o, format) : analyze<3>(o, format);
         const std::string text = json.dump(2) + "\n";
         if (o.output.empty()) {
-            std::cout << text << std::flush;
-            if (!std::cout) mm::detail::throw_input_error("cannot write to standard output (is the disk full?)");
+            std::cout << text;
+            if (!standard_output_complete()) mm::detail::throw_input_error("cannot write to standard output (is the disk full?)");
         } else {
             const std::string partial = o.output + ".partial";
             {

@@ -21,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "../standard_output.hpp"
 #include "timeseries.hpp"
 
 namespace {
@@ -180,7 +181,7 @@ int summarise(const std::string& dir) {
     }
     std::printf("| cost | %.0f s wall, %.3g particle-steps/s, %.3g steps |\n", double(run["timing"]["wall_seconds"]),
                 double(run["timing"].value("particle_steps_per_second", NAN)), double(run["timing"].value("steps", NAN)));
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    if (!standard_output_complete())
         throw std::runtime_error("cannot write the table to standard output (is the disk full?)");
     return 0;
 }

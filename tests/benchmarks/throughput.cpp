@@ -40,6 +40,7 @@
 #include <micromacro/micromacro.hpp>
 
 #include "../../examples/command_line.hpp"
+#include "../../examples/standard_output.hpp"
 
 namespace mm = micromacro;
 
@@ -199,7 +200,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
         std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s; fused multiply-adds %s\n",
                     o.density, tc, dt, tc / dt, sim.skin(), o.track_energy ? "on" : "off", fused_multiply_add ? "on" : "off");
     }
-    if (std::fflush(stdout) != 0 || std::ferror(stdout))
+    if (!standard_output_complete())
         mm::detail::throw_input_error("cannot write the result to standard output (is the disk full?)");
     return 0;
 }

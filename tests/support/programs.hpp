@@ -1,6 +1,7 @@
 #pragma once
 // Running a program of the project from a test: its exit status and what it printed.
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -24,6 +25,16 @@ inline std::string write_file(const std::filesystem::path& dir, const std::strin
     const auto path = dir / name;
     std::ofstream(path) << text;
     return path.string();
+}
+
+/// A fresh, empty work folder of this test process under the system's temporary folder: `name`
+/// plus the process id, so that two test processes (two builds tested at once, say) never
+/// share one. Each tools test removes it when it ends (a global fixture).
+inline std::filesystem::path work_folder(const std::string& name) {
+    const auto folder = std::filesystem::temp_directory_path() / (name + "." + std::to_string(::getpid()));
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    return folder;
 }
 
 struct ProgramResult {

@@ -23,7 +23,15 @@
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path work = fs::temp_directory_path() / "micromacro_biaxial_test";
+const fs::path work = mmtest::work_folder("micromacro_biaxial_test");
+// The work folder goes when the test process ends.
+struct RemoveWork {
+    ~RemoveWork() {
+        std::error_code ignored;
+        fs::remove_all(work, ignored);
+    }
+};
+BOOST_GLOBAL_FIXTURE(RemoveWork);
 #ifdef BIAXIAL_WITH_VTK
 constexpr bool with_vtk = true;  // the program writes VTK frames
 #else
@@ -41,11 +49,6 @@ std::string rows_of(const fs::path& csv) {
     return text.substr(text.find('\n') + 1);
 }
 
-// Runs of an earlier test process are refused by design (--out holds a run): start clean.
-struct CleanWork {
-    CleanWork() { fs::remove_all(work); }
-};
-BOOST_GLOBAL_FIXTURE(CleanWork);
 
 std::map<std::string, std::vector<double>> read_series(const fs::path& p) { return biaxial::read_timeseries(p.string()); }
 

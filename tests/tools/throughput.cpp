@@ -21,7 +21,15 @@ namespace fs = std::filesystem;
 namespace mm = micromacro;
 
 namespace {
-const fs::path work = fs::temp_directory_path() / "micromacro_throughput_test";
+const fs::path work = mmtest::work_folder("micromacro_throughput_test");
+// The work folder goes when the test process ends.
+struct RemoveWork {
+    ~RemoveWork() {
+        std::error_code ignored;
+        fs::remove_all(work, ignored);
+    }
+};
+BOOST_GLOBAL_FIXTURE(RemoveWork);
 
 mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(THROUGHPUT, args, work); }
 
