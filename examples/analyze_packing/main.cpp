@@ -22,6 +22,7 @@
 #include "../standard_output.hpp"
 
 #include <micromacro/io/json.hpp>
+#include <micromacro/io/contact_force_files.hpp>
 #include <micromacro/io/packing_files.hpp>
 #include <micromacro/micromacro.hpp>
 

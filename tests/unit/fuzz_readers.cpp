@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <micromacro/io/contact_force_files.hpp>
 #include <micromacro/io/packing_files.hpp>
 
 #include "support/mutate.hpp"

@@ -367,43 +367,4 @@ Domain<dim> packing_domain(const PackingFile<dim>& file, const std::vector<doubl
     return Domain<dim>(lo, hi, periodic);
 }
 
-/// One line of a contact-force file: the tangential force on particle `i` from particle `j`.
-template <int dim>
-struct ContactForceRecord {
-    long long i, j;  ///< particle ids (the packing's id column, else 0-based order)
-    Vec<dim> tangential_force;
-    std::size_t line;
-};
-
-/// Tangential contact forces from a CSV file with columns i, j and ft_x, ft_z (2D) or ft_x, ft_y,
-/// ft_z (3D).
-template <int dim>
-std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path) {
-    std::vector<ContactForceRecord<dim>> out;
-    std::array<std::string, dim + 2> wanted;
-    wanted[0] = "i";
-    wanted[1] = "j";
-    const auto axes = csv_coordinates<dim>();
-    for (int a = 0; a < dim; ++a) wanted[a + 2] = std::string("ft_") + axes[a];
-    std::array<int, dim + 2> columns{};
-    detail::read_csv_rows(
-        path,
-        [&](const std::vector<std::string>& names, std::size_t line) {
-            for (std::size_t w = 0; w < wanted.size(); ++w) {
-                const auto it = std::find(names.begin(), names.end(), wanted[w]);
-                if (it == names.end()) detail::fail(path, line, "missing column '" + wanted[w] + "'");
-                columns[w] = static_cast<int>(it - names.begin());
-            }
-        },
-        [&](const std::vector<std::string>& fields, std::size_t line) {
-            ContactForceRecord<dim> r;
-            r.i = detail::whole_number(fields[columns[0]], path, line, "i");
-            r.j = detail::whole_number(fields[columns[1]], path, line, "j");
-            for (int a = 0; a < dim; ++a) r.tangential_force[a] = detail::number(fields[columns[a + 2]], path, line, wanted[a + 2]);
-            r.line = line;
-            out.push_back(r);
-        });
-    return out;
-}
-
 }  // namespace micromacro::io

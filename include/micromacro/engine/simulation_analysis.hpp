@@ -1,0 +1,84 @@
+#pragma once
+// BasicSimulation seen from outside a step: its energies, the potential energy per particle, the
+// contact count, and an imposed affine deformation.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "micromacro/engine/simulation.hpp"
+
+namespace micromacro {
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::energy() const -> EnergyState {
+    EnergyState e;
+    e.kinetic_translational = particles_.translational_kinetic_energy();
+    e.kinetic_rotational = particles_.rotational_kinetic_energy();
+    if constexpr (has_walls) e.kinetic_walls = walls_.kinetic_energy();
+    for_each_contact([&](const ContactView<dim>& c) {
+        e.elastic_normal += law_.normal.elastic_energy(c.geometry.overlap);
+        e.elastic_tangential += c.elastic_energy - law_.normal.elastic_energy(c.geometry.overlap);
+    });
+    std::apply([&](const auto&... f) { ((e.gravitational += gravitational_energy(f)), ...); }, body_forces_);
+    return e;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::energy_residual() const -> double {
+    const double now = energy().total() + books_.dissipated() - books_.work_in();
+    const double scale = std::max({std::abs(initial_energy_), std::abs(books_.work_in()),
+                                   std::numeric_limits<double>::min()});
+    return (now - initial_energy_) / scale;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::potential_energy_per_particle() const -> std::vector<double> {
+    std::vector<double> u(particles_.size(), 0.0);
+    for_each_contact([&](const ContactView<dim>& c) {
+        if (c.wall) u[c.i] += c.elastic_energy;
+        else {
+            u[c.i] += 0.5 * c.elastic_energy;
+            u[c.j] += 0.5 * c.elastic_energy;
+        }
+    });
+    return u;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::deform_affinely(const Eigen::Matrix<double, dim, dim>& F) -> void {
+    if (!prepared_) prepare();
+    const double energy_before = track_energy_ ? energy().total() : 0.0;
+    const Domain<dim> deformed = domain_.deformed(F);
+    auto& x = particles_.template get<field::Position>();
+    if constexpr (has_tangential) {
+        const auto [walls, wall_contacts] = wall_parts();
+        detail::load_springs_affinely(F, particle_input(), domain_, law_, pairs_, walls, wall_contacts);
+    }
+    if constexpr (has_walls) walls_.deform(F);
+    for (auto& p : x) {
+        V moved = F * convert<double>(p);
+        deformed.wrap(moved);
+        p = convert<Real>(moved);
+    }
+    domain_ = deformed;
+    rebuild_neighbors();
+    compute_forces_without_books();
+    if (track_energy_) books_.work_by_deformation += energy().total() - energy_before;  // done instantly, no loss
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::contact_count() const -> std::size_t {
+    std::size_t count = 0;
+    for_each_contact([&](const ContactView<dim>&) { ++count; });
+    return count;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+template <class F>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::gravitational_energy(const F& force) const -> double {
+    if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
+    else return 0.0;
+}
+
+}  // namespace micromacro

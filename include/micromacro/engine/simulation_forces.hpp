@@ -1,0 +1,88 @@
+#pragma once
+// BasicSimulation's force evaluation: the pair forces on the thread shares, the wall loop, the
+// body forces, and the energy books of the step (the trapezoid that keeps them level with the
+// state; see close_step_books).
+
+#include "micromacro/engine/simulation.hpp"
+
+namespace micromacro {
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::compute_forces() -> void {
+    if constexpr (Integrator::keeps_previous_forces) {
+        // swap, not copy: compute_forces_impl zeroes the arrays it accumulates into anyway
+        previous_force_.swap(particles_.template get<field::Force>());
+        if constexpr (rotation) previous_torque_.swap(particles_.template get<field::Torque>());
+    }
+    if (track_energy_) compute_forces_impl<true>();
+    else compute_forces_impl<false>();
+    evaluated_dt_ = dt_;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+template <bool track>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::pair_forces() -> void {
+    SA* torque = nullptr;
+    if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
+    pair_loop_.template run<track>(contact_input(pairs_), pairs_.size(), static_cast<Index>(particles_.size()), active_threads(),
+                                   domain_, law_, dt_, particles_.template get<field::Force>().data(), torque, step_books_);
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+template <bool track>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::compute_forces_impl() -> void {
+    auto& f = particles_.template get<field::Force>();
+    if (!accumulators_cleared_) {  // else kick_drift_kick() cleared them in its pass
+        f.assign(particles_.size(), SV::Zero());
+        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, Real>());
+    }
+    accumulators_cleared_ = false;
+    pair_forces<track>();
+    if constexpr (has_walls) {
+        SA* torque = nullptr;
+        if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
+        detail::wall_forces<track, rotation>(contact_input(wall_contacts_), wall_contacts_.size(), walls_, law_, dt_, f.data(),
+                                             torque, step_books_);
+    }
+    std::apply([&](const auto&... bf) { (apply_body_force<track>(bf), ...); }, body_forces_);
+    if constexpr (track) close_step_books();
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+template <bool track, class F>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::apply_body_force(const F& force) -> void {
+    if constexpr (requires(AffineField<dim> field) { force.template apply<track>(particles_, step_books_, dt_, field); }) {
+        AffineField<dim> field;
+        if constexpr (has_walls) field = walls_.affine_field();
+        force.template apply<track>(particles_, step_books_, dt_, field);
+    } else {
+        force.template apply<track>(particles_, step_books_, dt_);
+    }
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::compute_forces_without_books() -> void {
+    const EnergyBooks kept = books_;
+    step_back_springs();
+    compute_forces();
+    books_ = kept;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::step_back_springs() -> void {
+    if constexpr (has_tangential) {
+        if (!(evaluated_dt_ > 0.0)) return;  // nothing evaluated yet
+        const auto [walls, wall_contacts] = wall_parts();
+        detail::step_back_springs<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, evaluated_dt_, dt_);
+    }
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::close_step_books() -> void {
+    if constexpr (has_walls) detail::book_wall_work(walls_, domain_, wall_books_, books_);
+    books_.add_mean(step_books_, previous_step_books_);
+    previous_step_books_ = step_books_;
+    step_books_ = {};
+}
+
+}  // namespace micromacro

@@ -1,0 +1,151 @@
+#pragma once
+// BasicSimulation before it runs and when it fails: the stability limit, prepare() with its
+// checks of the scene, the neighbour-list rebuild, the spatial renumbering, the position
+// resolution, and the report of a blow-up.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include "micromacro/engine/simulation.hpp"
+
+namespace micromacro {
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::stable_time_step() const -> double {
+    if (particles_.empty()) return std::numeric_limits<double>::infinity();
+    const double inv_max = particles_.largest_inverse_mass();
+    bool any_wall = false;
+    if constexpr (has_walls) any_wall = walls_.size() > 0;
+    if (particles_.size() < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
+    const double partners = particles_.size() > 1 ? 2.0 : 1.0;  // another particle, or a wall
+    double limit = normal_time_step_limit<Integrator>(law_.normal, partners * inv_max);
+    if constexpr (has_tangential)
+        limit = std::min(limit, tangential_time_step_limit<Integrator>(law_.tangential,
+                                                                       partners * particles_.largest_contact_point_mobility()));
+    if constexpr (has_walls)  // a stress-controlled wall on one contact
+        for (const auto& w : walls_)
+            if (const auto* s = std::get_if<StressControlled>(&w.motion))
+                limit = std::min(limit, stress_wall_time_step_limit(law_.normal, s->mass, s->damping, inv_max));
+    return limit;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::prepare() -> void {
+    if (!(dt_ > 0.0))
+        detail::throw_input_error("no time step set; call set_time_step(dt), e.g. dt = t_c / 50");
+    const std::size_t n = particles_.size();
+    if (n > std::numeric_limits<Index>::max() - 1)
+        detail::throw_input_error("too many particles: ", n);
+    const auto& r = particles_.radius();
+    if (!(skin_ > 0.0)) {
+        double mean = 0.0;
+        for (double a : r) mean += a;  // in double whatever the storage
+        skin_ = n ? 0.2 * mean / n : 1.0;
+    }
+    if (n) domain_.check_interaction_range(2.0 * double(*std::max_element(r.begin(), r.end())) + skin_);
+    check_position_resolution();
+    const double limit = stable_time_step();
+    if (dt_ > limit && !allow_unstable_)
+        detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit,
+                                  " s of the stiffest contact (lightest particles); use dt <= ", limit,
+                                  " (the paper uses t_c/50), or allow_unstable_time_step(true) to run anyway");
+    for (auto& x : particles_.position()) {
+        V wrapped = convert<double>(x);
+        domain_.wrap(wrapped);
+        x = convert<Real>(wrapped);
+    }
+    if constexpr (has_walls) {
+        for (std::size_t w = 0; w < walls_.size(); ++w) {
+            for (int k = 0; k < dim; ++k)
+                if (domain_.periodic(k) && walls_[w].normal[k] != 0.0)
+                    detail::throw_input_error("wall ", w, " is not parallel to periodic axis ", k,
+                                              "; walls may only bound non-periodic axes");
+            for (std::size_t i = 0; i < n; ++i)
+                if (!(walls_[w].distance(convert<double>(particles_.position()[i])) > 0.0))
+                    detail::throw_input_error("particle ", i, " starts outside wall ", w, " (its centre is ",
+                                              -walls_[w].distance(convert<double>(particles_.position()[i])),
+                                              " m behind the plane); move it inside or move the wall");
+        }
+    }
+    rebuild_neighbors();
+    if (steps_ == 0) {
+        step_back_springs();  // prepare() called again before the first step
+        compute_forces();
+        initial_energy_ = track_energy_ ? energy().total() : 0.0;
+        books_ = {};  // the first evaluation only opens the books
+    } else {
+        compute_forces_without_books();
+    }
+    prepared_ = true;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::sort_spatially(double cell) -> std::vector<Index> {
+    const std::size_t n = particles_.size();
+    const std::vector<Index> order = spatial_order(particles_.position(), particles_.radius(), domain_, cell);
+    std::vector<Index> new_index(n);
+    for (std::size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<Index>(k);
+    const detail::Permutation permute{order};  // an archive that reorders every array it visits
+    particles_.serialize(permute);
+    permute.array(reference_);
+    if constexpr (Integrator::keeps_previous_forces) {
+        permute.array(previous_force_);
+        if constexpr (rotation) permute.array(previous_torque_);
+    }
+    pairs_.renumber(new_index, true);
+    if constexpr (has_walls) wall_contacts_.renumber(new_index, false);
+    return order;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::position_resolution() const -> double {
+    double far = 0.0;
+    for (const auto& x : particles_.position()) far = std::max(far, double(x.cwiseAbs().maxCoeff()));
+    if constexpr (has_walls)
+        for (const auto& w : walls_) far = std::max(far, std::abs(w.offset));
+    return far * std::numeric_limits<Real>::epsilon();
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::rebuild_neighbors() -> void {
+    const auto& x = particles_.position();
+    const auto& r = particles_.radius();
+    auto& next = pairs_.scratch();
+    next.clear();
+    neighbors_.find_pairs(x, r, domain_, skin_, next);
+    pairs_.commit_scratch();
+    reference_ = x;
+    if constexpr (has_walls) {
+        auto& wn = wall_contacts_.scratch();
+        wn.clear();
+        detail::find_wall_candidates(x, r, walls_, skin_, wn);
+        wall_contacts_.commit_scratch();
+        wall_reference_.resize(walls_.size());
+        for (std::size_t w = 0; w < walls_.size(); ++w) wall_reference_[w] = walls_[w].offset;
+    }
+    ++rebuilds_;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::check_position_resolution() const -> void {
+    if (particles_.empty() || allow_coarse_positions_) return;
+    const auto& r = particles_.radius();
+    micromacro::check_position_resolution(position_resolution(), *std::min_element(r.begin(), r.end()),
+                                          std::numeric_limits<Real>::epsilon(), std::is_same_v<Real, float>);
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::report_blow_up() const -> void {
+    const auto& x = particles_.position();
+    std::size_t bad = 0;  // the first particle whose displacement overflowed or is NaN
+    while (bad + 1 < x.size() &&
+           std::isfinite(domain_.separation(convert<double>(x[bad]), convert<double>(reference_[bad])).squaredNorm()))
+        ++bad;
+    throw SimulationError(detail::concat(
+        "the simulation blew up at step ", steps_ + 1, " (t = ", time_, " s): particle ", bad,
+        " reached position component ", x[bad][0], ". The time step dt = ", dt_,
+        " s against the stability limit ", stable_time_step(), " s is the usual cause; reduce dt"));
+}
+
+}  // namespace micromacro
