@@ -100,6 +100,8 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
     [[maybe_unused]] const Angular<dim, Real>* w = in.w;
     const IndexPair* pair = in.pair;
     [[maybe_unused]] History* history = in.history;
+    // The copies must not escape (opened_pair gets the originals): a store to the forces could
+    // then write into them as far as the compiler knows, and it would reload them after each.
     const Domain<dim> domain = box;
     const Law law = contact_law;
     EnergyBooks account = books;
@@ -133,7 +135,7 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
             for (std::size_t k = 0; k < open; ++k) {  // the contact opened, if it was one
                 History& h = history[b0 + opened[k]];
                 if (h.touching) [[unlikely]]
-                    opened_pair<periodic, rotation>(in, domain, law, dt, pair[b0 + opened[k]], h, f, torque, owned_end, spill);
+                    opened_pair<periodic, rotation>(in, box, contact_law, dt, pair[b0 + opened[k]], h, f, torque, owned_end, spill);
                 h = History{};
             }
         {  // square roots and reciprocals two or four at a time (Eigen's packets)
