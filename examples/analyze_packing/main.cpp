@@ -48,11 +48,11 @@ void add_tangential_forces(mm::PackingSnapshot<dim>& s, const mm::io::PackingFil
     for (const auto& r : mm::io::read_contact_forces<dim>(path)) {
         const auto i = index.find(r.i), j = index.find(r.j);
         if (i == index.end() || j == index.end())
-            mm::io::detail::fail(path, r.line, "particle id " + std::to_string(i == index.end() ? r.i : r.j) + " is not in the packing");
+            mm::io::file_error(path, r.line, "particle id " + std::to_string(i == index.end() ? r.i : r.j) + " is not in the packing");
         const bool swapped = i->second > j->second;
         const auto c = contact.find(swapped ? std::pair{j->second, i->second} : std::pair{i->second, j->second});
         if (c == contact.end())
-            mm::io::detail::fail(path, r.line, "particles " + std::to_string(r.i) + " and " + std::to_string(r.j) +
+            mm::io::file_error(path, r.line, "particles " + std::to_string(r.i) + " and " + std::to_string(r.j) +
                                                   " do not overlap, so they have no contact to carry a force");
         auto& record = s.contacts[c->second];
         const mm::Vec<dim> f = swapped ? mm::Vec<dim>(-r.tangential_force) : r.tangential_force;
@@ -63,14 +63,14 @@ void add_tangential_forces(mm::PackingSnapshot<dim>& s, const mm::io::PackingFil
 mm::SelectionRule selection_rule(const std::string& rule) {
     if (rule == "contact") return mm::SelectionRule::contact_point;
     if (rule == "center" || rule == "centre") return mm::SelectionRule::particle_centre;
-    mm::detail::throw_input_error("--rule '", rule, "' is unknown; use contact or center");
+    mm::throw_input_error("--rule '", rule, "' is unknown; use contact or center");
 }
 
 template <int dim>
 nlohmann::ordered_json analyze(const Options& o, mm::io::PackingFormat format) {
     const auto file = mm::io::read_packing<dim>(o.input, format);
     if (file.position.size() < 2)  // one particle has no contacts, and its own extent is no box to average over
-        mm::detail::throw_input_error(o.input, " holds one particle; averages need a packing (at least 2)");
+        mm::throw_input_error(o.input, " holds one particle; averages need a packing (at least 2)");
     // Box and periodic axes: the options, else the dump's, else the particles' extent.
     const auto domain = mm::io::packing_domain<dim>(file, o.box, o.periodic);
     const mm::Vec<dim> lo = domain.lo(), hi = domain.hi();
@@ -89,7 +89,7 @@ nlohmann::ordered_json analyze(const Options& o, mm::io::PackingFormat format) {
     // Numbers that overflowed would print as null: refused.
     std::function<void(const nlohmann::ordered_json&, const std::string&)> finite = [&](const auto& v, const std::string& key) {
         if (v.is_number_float() && !std::isfinite(v.template get<double>()))
-            mm::detail::throw_input_error(o.input, ": the average '", key, "' is not finite: the file's values overflow "
+            mm::throw_input_error(o.input, ": the average '", key, "' is not finite: the file's values overflow "
                                           "double arithmetic (are lengths in m and stiffnesses in N/m?)");
         for (auto it = v.begin(); v.is_structured() && it != v.end(); ++it) finite(*it, v.is_object() ? it.key() : key);
     };
@@ -136,7 +136,7 @@ int main(int argc, char** argv) {
         std::error_code ec;
         for (const std::string& read : {o.input, o.contact_forces})
             if (!o.output.empty() && !read.empty() && std::filesystem::equivalent(read, o.output, ec))
-                mm::detail::throw_input_error("-o ", o.output, " is the input ", read, "; write the averages to another file");
+                mm::throw_input_error("-o ", o.output, " is the input ", read, "; write the averages to another file");
         const auto format = o.format.empty() ? mm::io::guess_format(o.input)
                             : o.format == "lammps" ? mm::io::PackingFormat::lammps_dump
                                                    : mm::io::PackingFormat::csv;
@@ -145,18 +145,18 @@ int main(int argc, char** argv) {
         const std::string text = json.dump(2) + "\n";
         if (o.output.empty()) {
             std::cout << text;
-            if (!standard_output_complete()) mm::detail::throw_input_error("cannot write to standard output (is the disk full?)");
+            if (!standard_output_complete()) mm::throw_input_error("cannot write to standard output (is the disk full?)");
         } else {
             const std::string partial = o.output + ".partial";
             {
                 std::ofstream out(partial);
                 if (!(out << text) || !(out.flush())) {
                     std::remove(partial.c_str());
-                    mm::detail::throw_input_error("cannot write ", partial, "; check that the directory exists and is writable");
+                    mm::throw_input_error("cannot write ", partial, "; check that the directory exists and is writable");
                 }
             }
             if (std::rename(partial.c_str(), o.output.c_str()) != 0)
-                mm::detail::throw_input_error("cannot rename ", partial, " to ", o.output);
+                mm::throw_input_error("cannot rename ", partial, " to ", o.output);
         }
         return 0;
     } catch (const std::exception& e) {

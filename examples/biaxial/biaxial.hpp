@@ -102,17 +102,17 @@ inline void apply_preset(Config& c, const std::string& name) {
         c.relax = 0.02;
         c.output_interval = 5e-4;
     } else {
-        mm::detail::throw_input_error("--preset '", name, "' is unknown; use paper or quick");
+        mm::throw_input_error("--preset '", name, "' is unknown; use paper or quick");
     }
     if (c.dim == 3) c.pressure = 1e4;  // p d / k = 2e-4 as in the paper's 2D p / k
 }
 
 /// Refuses a configuration before any work starts.
 inline void validate(const Config& c) {
-    using mm::detail::throw_input_error;
+    using mm::throw_input_error;
     if (c.dim != 2 && c.dim != 3) throw_input_error("--dim ", c.dim, " is invalid; use 2 or 3");
     if (c.particles < 2) throw_input_error("--particles ", c.particles, " is too few; use at least 2");
-    mm::detail::require_positive(c.pressure, "--pressure", "the side pressure p must be > 0 (N/m in 2D, Pa in 3D)");
+    mm::require_positive(c.pressure, "--pressure", "the side pressure p must be > 0 (N/m in 2D, Pa in 3D)");
     if (c.pressure_over_stiffness() > 1e-2)
         throw_input_error("--pressure ", c.pressure, " gives p/k = ", c.pressure_over_stiffness(), (c.dim == 3 ? " (p d / k in 3D)" : ""),
                           ", above 1e-2: the largest overlaps would exceed 10-20% of a radius (they reach 8-11 p/k "
@@ -120,7 +120,7 @@ inline void validate(const Config& c) {
                           1e-2 * c.pressure / c.pressure_over_stiffness());
     if (!(c.final_strain > 0.0 && c.final_strain < 1.0))
         throw_input_error("--final-strain ", c.final_strain, " is invalid; the strain eps_zz = 1 - z/z0 must be in (0, 1)");
-    mm::detail::require_positive(c.period, "--period", "give T of Eq. 17 in s");
+    mm::require_positive(c.period, "--period", "give T of Eq. 17 in s");
     // The run's limits, each naming the option at fault and the value that would do.
     if (c.particles > 100'000'000)
         throw_input_error("--particles ", c.particles, " is beyond this program's 1e8 (about 1 kB each in memory); "
@@ -135,18 +135,18 @@ inline void validate(const Config& c) {
                           " m high, less than 2 of the largest particles (", d_max, " m each): no packing is left between "
                           "the walls; use --final-strain <= ", std::floor(100 * (1.0 - 2.0 * d_max / c.expected_side())) / 100,
                           " or more --particles");
-    mm::detail::require_non_negative(c.relax, "--relax", "give the relaxation time after T/2 in s");
-    mm::detail::require_non_negative(c.mu, "--mu", "use 0 for frictionless particles");
-    mm::detail::require_positive(c.kt_ratio, "--kt-ratio", "k_t / k must be > 0");
+    mm::require_non_negative(c.relax, "--relax", "give the relaxation time after T/2 in s");
+    mm::require_non_negative(c.mu, "--mu", "use 0 for frictionless particles");
+    mm::require_positive(c.kt_ratio, "--kt-ratio", "k_t / k must be > 0");
     if (!(c.dt_fraction >= 5.0)) throw_input_error("--dt-fraction ", c.dt_fraction, " is too small; dt = t_c / fraction needs fraction >= 5");
     if (c.damping != "lab" && c.damping != "affine" && c.damping != "local")
         throw_input_error("--damping '", c.damping, "' is unknown; use lab (Eq. 30), affine (against the walls' mean flow) or local (Cundall's)");
-    mm::detail::require_non_negative(c.gamma_b, "--gamma-b", "use 0 for no background damping");
+    mm::require_non_negative(c.gamma_b, "--gamma-b", "use 0 for no background damping");
     if (!(c.local_damping >= 0.0 && c.local_damping < 1.0))
         throw_input_error("--local-damping ", c.local_damping, " is outside [0, 1); it is the fraction of each force component "
                           "taken against the motion (0.2 in YADE's examples)");
-    mm::detail::require_non_negative(c.gamma_b_prepare, "--gamma-b-prepare", "use 0 for no background damping");
-    mm::detail::require_non_negative(c.mu_prepare, "--mu-prepare", "use 0 for frictionless particles while preparing");
+    mm::require_non_negative(c.gamma_b_prepare, "--gamma-b-prepare", "use 0 for no background damping");
+    mm::require_non_negative(c.mu_prepare, "--mu-prepare", "use 0 for frictionless particles while preparing");
     // A drag gamma on the lightest particle takes gamma dt / m of its velocity per step; at 1 or
     // more the explicit drag overshoots (the run would blow up and blame the time step).
     const double m_min = mm::sphere_mass(c.density, c.radius_min);
@@ -155,7 +155,7 @@ inline void validate(const Config& c) {
             throw_input_error(name, " ", gamma, " kg/s would take ", gamma * dt / m_min, " of the lightest particle's "
                               "velocity per time step (mass ", m_min, " kg, dt = ", dt, " s), 1 or more: the drag overshoots; use ",
                               name, " < ", 0.5 * m_min / dt, " (the defaults are 5e-2 and 1e-3)");
-    mm::detail::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
+    mm::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
     {  // the controlled wall on one particle is an oscillator of sqrt(k (1/m_w + 1/m)) (see stable_time_step)
         const double omega = std::sqrt(c.k * (1.0 / c.wall_mass + 1.0 / m_min));
         if (omega * dt >= 2.0)
@@ -186,13 +186,13 @@ inline void validate(const Config& c) {
         throw_input_error("--dt-fraction ", c.dt_fraction, " gives dt = ", dt, " s and ", steps, " steps for the loading alone, "
                           "more than 1e9 (days of computing); use --dt-fraction <= ", c.dt_fraction * 1e9 / steps,
                           " (the paper's is 50)");
-    mm::detail::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
-    mm::detail::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
-    mm::detail::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");
+    mm::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
+    mm::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
+    mm::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");
     if (!(c.inner_margin >= 0.0 && c.inner_margin < 0.5))
         throw_input_error("--inner-margin ", c.inner_margin, " is outside [0, 0.5); it is the fraction of each side left out "
                           "next to each wall (the paper's 0.1)");
-    mm::detail::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
+    mm::require_positive(c.output_interval, "--output-interval", "give the time between rows in s");
     const double loading = 0.5 * c.period + c.relax;
     if (c.output_interval < dt)
         throw_input_error("--output-interval ", c.output_interval, " s is shorter than the time step dt = ", dt,
@@ -251,7 +251,7 @@ public:
         // Random sequential placement; overlap checks against the particles placed so far.
         for (std::size_t tries = 0; placed.size() < c_.particles; ++tries) {
             if (tries > 1000 * c_.particles)
-                mm::detail::throw_input_error("could not place ", c_.particles, " particles without overlap in the initial box; "
+                mm::throw_input_error("could not place ", c_.particles, " particles without overlap in the initial box; "
                                               "raise --box-factor");
             const double a = c_.radius_min + (c_.radius_max - c_.radius_min) * U(rng);
             V x;
@@ -300,7 +300,7 @@ public:
                 wall_kinetic < c_.prepare_kinetic_ratio * e.potential() && imbalance <= 1e-4)
                 break;
             if (sim_.time() - start > limit)
-                mm::detail::throw_input_error("the preparation did not come to rest within ", limit,
+                mm::throw_input_error("the preparation did not come to rest within ", limit,
                                               " s (kinetic / elastic energy = ", e.kinetic() / e.potential(),
                                               ", largest wall push off p A by ", imbalance,
                                               "); raise --gamma-b-prepare or lower --prepare-speed");
@@ -338,7 +338,7 @@ public:
         return b;
     }
     void restore_bookkeeping(const std::vector<double>& b) {
-        if (b.size() != dim + 1) mm::detail::throw_input_error("the saved experiment state does not fit a ", dim, "D run");
+        if (b.size() != dim + 1) mm::throw_input_error("the saved experiment state does not fit a ", dim, "D run");
         for (int k = 0; k < dim; ++k) box0_[k] = b[k];
         load_start_ = b[dim];
     }

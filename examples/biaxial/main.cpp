@@ -51,7 +51,7 @@ void write_atomically(const fs::path& path, const std::string& text) {
         if (!(out << text) || !out.flush()) {
             std::error_code ignored;
             fs::remove(partial, ignored);
-            micromacro::detail::throw_input_error("cannot write ", partial.string());
+            micromacro::throw_input_error("cannot write ", partial.string());
         }
     }
     fs::rename(partial, path);
@@ -148,19 +148,19 @@ void claim_output_folder(const fs::path& out, bool overwrite, const std::string&
         if (fs::exists(out / entry)) found += (found.empty() ? "" : ", ") + std::string(entry);
     if (!found.empty()) {
         if (!overwrite)
-            micromacro::detail::throw_input_error("--out ", out.string(), " holds an earlier run (", found,
+            micromacro::throw_input_error("--out ", out.string(), " holds an earlier run (", found,
                                                   "); give another --out, --resume ", out.string(),
                                                   " to continue a killed run, or --overwrite to replace it");
         std::error_code ec;
         if (!from_prepared.empty() && fs::weakly_canonical(from_prepared, ec).parent_path() == fs::weakly_canonical(out, ec))
-            micromacro::detail::throw_input_error("--from-prepared ", from_prepared, " lies in --out ", out.string(),
+            micromacro::throw_input_error("--from-prepared ", from_prepared, " lies in --out ", out.string(),
                                                   ", which --overwrite would clear first; copy it elsewhere or choose another --out");
         for (const char* entry : run_entries) fs::remove_all(out / entry);
     }
     std::error_code ec;
     fs::create_directories(out, ec);
     const fs::path probe = out / ".write_test";
-    if (ec || !std::ofstream(probe)) micromacro::detail::throw_input_error("--out ", out.string(), " is not a writable directory");
+    if (ec || !std::ofstream(probe)) micromacro::throw_input_error("--out ", out.string(), " is not a writable directory");
     fs::remove(probe, ec);
 }
 
@@ -323,9 +323,9 @@ int run(const Config& c, const Plan& plan) {
         vtk_times = saved.at("vtk_times").get<std::vector<double>>();
         steps_before = sim.steps_done();
         if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
-            micromacro::detail::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
+            micromacro::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
         if (const std::string series = run_id_of_series(partial); series != plan.run_id)
-            micromacro::detail::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
+            micromacro::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
                                                   plan.run_id, "'; the folder mixes two runs and cannot resume");
         fs::resize_file(partial, saved.at("csv_bytes").get<std::uintmax_t>());  // drop rows written after the checkpoint
         csv.open(partial, std::ios::app);
@@ -337,7 +337,7 @@ int run(const Config& c, const Plan& plan) {
         } else {
             const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, plan.from_prepared, "prepared"));
             if (saved.at("parameters").at("particles").get<std::size_t>() != c.particles)
-                micromacro::detail::throw_input_error(plan.from_prepared, " holds ",
+                micromacro::throw_input_error(plan.from_prepared, " holds ",
                                                       saved.at("parameters").at("particles").get<std::size_t>(),
                                                       " particles, this run asks for ", c.particles, "; drop --particles");
             steps_before = sim.steps_done();
@@ -347,7 +347,7 @@ int run(const Config& c, const Plan& plan) {
         exp.start_loading();
         csv.open(partial, std::ios::trunc);
     }
-    if (!csv) micromacro::detail::throw_input_error("cannot write ", partial.string());
+    if (!csv) micromacro::throw_input_error("cannot write ", partial.string());
 
     // Loading: one row per output interval, into a partial file renamed at the end.
     auto write_row = [&] {
@@ -384,7 +384,7 @@ int run(const Config& c, const Plan& plan) {
         }
     }
     csv.close();
-    if (!csv) micromacro::detail::throw_input_error("cannot finish ", partial.string());
+    if (!csv) micromacro::throw_input_error("cannot finish ", partial.string());
     fs::rename(partial, out / "timeseries.csv");
 
     const double seconds = elapsed();
@@ -506,12 +506,12 @@ int main(int argc, char** argv) {
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
     try {
-        if (out.empty() && resume.empty()) micromacro::detail::throw_input_error("give --out DIR (or --resume DIR)");
+        if (out.empty() && resume.empty()) micromacro::throw_input_error("give --out DIR (or --resume DIR)");
         plan.quiet = quiet;
         plan.pictures = !no_pictures;
 #ifndef MICROMACRO_HAVE_VTK  // a build without VTK writes no frames, and says so when asked for them
         if (resume.empty() && vtk_every->count() && plan.vtk_every_rows > 0)  // (with --resume: refused below as any option)
-            micromacro::detail::throw_input_error("--vtk-every ", plan.vtk_every_rows, " asks for VTK frames, but this biaxial was "
+            micromacro::throw_input_error("--vtk-every ", plan.vtk_every_rows, " asks for VTK frames, but this biaxial was "
                                                   "built without VTK (install libvtk9-dev and build again); use --vtk-every 0");
         if (resume.empty()) plan.vtk_every_rows = 0;
 #else
@@ -521,19 +521,19 @@ int main(int argc, char** argv) {
             // Any setting given now would be ignored or would change the run half-way: refused.
             for (const CLI::Option* o : app.get_options())
                 if (o->count() && o->get_name() != "--resume" && o->get_name() != "--quiet" && o->get_name() != "--no-pictures")
-                    micromacro::detail::throw_input_error(o->get_name(), " cannot be given with --resume: a resumed run keeps every "
+                    micromacro::throw_input_error(o->get_name(), " cannot be given with --resume: a resumed run keeps every "
                                                           "setting of the run it continues (saved in its checkpoint); drop ",
                                                           o->get_name());
             plan.out = resume;
             plan.resume = true;
             const fs::path checkpoint = plan.out / "checkpoint.state";
             if (!fs::exists(checkpoint))
-                micromacro::detail::throw_input_error(checkpoint.string(), " does not exist; was the run started with "
+                micromacro::throw_input_error(checkpoint.string(), " does not exist; was the run started with "
                                                       "--checkpoint-every, or did it complete?");
             // The settings are the text saved with the state (they say which dimension to restore).
             const auto saved = nlohmann::ordered_json::parse(micromacro::io::state_text(checkpoint, "checkpoint"));
             if (!saved.contains("plan"))
-                micromacro::detail::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
+                micromacro::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
             c = config_from_json(saved, c);
             plan_from_json(saved.at("plan"), plan);
             return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
@@ -550,7 +550,7 @@ int main(int argc, char** argv) {
             const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
             if (error != std::errc() || end != text.data() + text.size() || v < least ||
                 v > std::numeric_limits<std::decay_t<decltype(field)>>::max())
-                micromacro::detail::throw_input_error(o->get_name(), " '", text, "' is not a whole number from ", least, " to ",
+                micromacro::throw_input_error(o->get_name(), " '", text, "' is not a whole number from ", least, " to ",
                                                       std::numeric_limits<std::decay_t<decltype(field)>>::max());
             field = static_cast<std::decay_t<decltype(field)>>(v);
         };
@@ -580,12 +580,12 @@ int main(int argc, char** argv) {
             // of the preparation would be recorded in run.json without having acted.
             for (const char* name : {"--seed", "--mu-prepare", "--gamma-b-prepare", "--prepare-speed", "--particles"})
                 if (app.get_option(name)->count())
-                    micromacro::detail::throw_input_error(name, " cannot be given with --from-prepared: the prepared state "
+                    micromacro::throw_input_error(name, " cannot be given with --from-prepared: the prepared state "
                                                           "holds the packing it made (run.json records its value); drop ", name);
             const auto prepared = config_from_json(
                 nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared, "prepared")), c);
             if (prepared.dim != c.dim)
-                micromacro::detail::throw_input_error(plan.from_prepared, " holds a different scene (dim=", prepared.dim,
+                micromacro::throw_input_error(plan.from_prepared, " holds a different scene (dim=", prepared.dim,
                                                       "), this run asks for --dim ", c.dim);
             c.particles = prepared.particles, c.seed = prepared.seed, c.mu_prepare = prepared.mu_prepare;
             c.gamma_b_prepare = prepared.gamma_b_prepare, c.prepare_speed = prepared.prepare_speed;
@@ -593,7 +593,7 @@ int main(int argc, char** argv) {
             c.prepare_kinetic_ratio = prepared.prepare_kinetic_ratio;
         }
         biaxial::validate(c);
-        micromacro::detail::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
+        micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
         claim_output_folder(out, overwrite, plan.from_prepared);
         plan.out = out;
         plan.run_id = new_run_id();

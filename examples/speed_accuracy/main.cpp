@@ -306,7 +306,7 @@ void write_atomically(const fs::path& path, const std::string& text) {
     {
         std::ofstream f(partial);
         f << text;
-        if (!f) mm::detail::throw_input_error("cannot write ", partial.string());
+        if (!f) mm::throw_input_error("cannot write ", partial.string());
     }
     fs::rename(partial, path);
 }
@@ -333,7 +333,7 @@ int main(int argc, char** argv) {
     try {
         std::error_code ec;
         fs::create_directories(out_dir, ec);
-        if (ec || !fs::is_directory(out_dir)) mm::detail::throw_input_error("--out-dir ", out_dir, " is not a writable directory");
+        if (ec || !fs::is_directory(out_dir)) mm::throw_input_error("--out-dir ", out_dir, " is not a writable directory");
         const auto started = std::chrono::steady_clock::now();
         auto say = [&](const std::string& what) {
             std::fprintf(stderr, "[%6.0f s] %s\n", seconds_since(started), what.c_str());
@@ -406,7 +406,7 @@ int main(int argc, char** argv) {
             say(v.group + ": " + v.label + format(" (%.1f s per run)", results.back().mean(&Outcome::seconds)) + results.back().failure);
         }
         const VariantResult& ref = results.front();
-        if (!ref.failure.empty()) mm::detail::throw_input_error("the reference run failed: ", ref.failure);
+        if (!ref.failure.empty()) mm::throw_input_error("the reference run failed: ", ref.failure);
 
         std::vector<KernelRow> kernels;
         for (double w : {0.25, 0.5, 1.0, 2.0})

@@ -27,22 +27,31 @@ std::string concat(const Parts&... parts) {
     (out << ... << parts);
     return out.str();
 }
+}  // namespace detail
 
+/// Throws an InputError whose message is the parts written one after another (numbers to 10
+/// digits): what programs built on the library use to refuse their own options the same way.
 template <class... Parts>
 [[noreturn]] void throw_input_error(const Parts&... parts) {
-    throw InputError(concat(parts...));
+    throw InputError(detail::concat(parts...));
 }
 
-/// Requires value > 0 and finite.
+/// Requires value > 0 and finite; else an InputError naming `what`, the value and the `fix`.
 inline void require_positive(double value, const char* what, const char* fix) {
     if (!(value > 0.0) || !std::isfinite(value))
         throw_input_error(what, " = ", value, " is invalid: it must be finite and > 0; ", fix);
 }
-/// Requires value >= 0 and finite.
+/// Requires value >= 0 and finite; else an InputError naming `what`, the value and the `fix`.
 inline void require_non_negative(double value, const char* what, const char* fix) {
     if (!(value >= 0.0) || !std::isfinite(value))
         throw_input_error(what, " = ", value, " is invalid: it must be finite and >= 0; ", fix);
 }
+
+// The library's own code calls them through detail:: as well.
+namespace detail {
+using micromacro::require_non_negative;
+using micromacro::require_positive;
+using micromacro::throw_input_error;
 }  // namespace detail
 
 }  // namespace micromacro

@@ -36,7 +36,7 @@ std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path
         [&](const std::vector<std::string>& names, std::size_t line) {
             for (std::size_t w = 0; w < wanted.size(); ++w) {
                 const auto it = std::find(names.begin(), names.end(), wanted[w]);
-                if (it == names.end()) detail::fail(path, line, "missing column '" + wanted[w] + "'");
+                if (it == names.end()) file_error(path, line, "missing column '" + wanted[w] + "'");
                 columns[w] = static_cast<int>(it - names.begin());
             }
         },

@@ -41,11 +41,12 @@ struct PackingFile {
     std::array<bool, dim> periodic{};                   ///< from the file (LAMMPS pp)
 };
 
-namespace detail {
-[[noreturn]] inline void fail(const std::string& path, std::size_t line, const std::string& what) {
-    micromacro::detail::throw_input_error(path, line ? ":" + std::to_string(line) : std::string(), ": ", what);
+/// Throws an InputError "path:line: what" (line 0: "path: what"), the form of every file error.
+[[noreturn]] inline void file_error(const std::string& path, std::size_t line, const std::string& what) {
+    micromacro::throw_input_error(path, line ? ":" + std::to_string(line) : std::string(), ": ", what);
 }
 
+namespace detail {
 inline std::vector<std::string> split(const std::string& s, char sep) {
     std::vector<std::string> out;
     std::string field;
@@ -67,7 +68,7 @@ inline double number(const std::string& text, const std::string& path, std::size
     char* end = nullptr;
     const double v = std::strtod(text.c_str(), &end);
     if (text.empty() || end != text.c_str() + text.size() || errno == ERANGE || !std::isfinite(v))
-        fail(path, line, "column '" + column + "': '" + text + "' is not a finite number");
+        file_error(path, line, "column '" + column + "': '" + text + "' is not a finite number");
     return v;
 }
 
@@ -75,13 +76,13 @@ inline double number(const std::string& text, const std::string& path, std::size
 inline long long whole_number(const std::string& text, const std::string& path, std::size_t line, const std::string& column) {
     const double v = number(text, path, line, column);
     if (v != std::floor(v) || std::abs(v) > 9007199254740992.0)
-        fail(path, line, "column '" + column + "': '" + text + "' is not a whole number within +-2^53");
+        file_error(path, line, "column '" + column + "': '" + text + "' is not a whole number within +-2^53");
     return static_cast<long long>(v);
 }
 
 inline std::ifstream open(const std::string& path) {
     std::ifstream in(path);
-    if (!in) fail(path, 0, "cannot open the file for reading");
+    if (!in) file_error(path, 0, "cannot open the file for reading");
     return in;
 }
 
@@ -102,7 +103,7 @@ void read_csv_rows(const std::string& path, Header&& header, Row&& row) {
         if (columns == 0 && fields.size() == 1)
             for (const char separator : {';', '\t', ' '})
                 if (text.find(separator) != std::string::npos)
-                    fail(path, line, std::string("the header is separated by ") + (separator == ';' ? "';'" : separator == '\t' ? "tabs" : "spaces") +
+                    file_error(path, line, std::string("the header is separated by ") + (separator == ';' ? "';'" : separator == '\t' ? "tabs" : "spaces") +
                                          ", not commas; save the file as comma-separated CSV");
         if (columns == 0) {
             columns = fields.size();
@@ -110,16 +111,16 @@ void read_csv_rows(const std::string& path, Header&& header, Row&& row) {
             continue;
         }
         if (fields.size() != columns)
-            fail(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(columns));
+            file_error(path, line, "has " + std::to_string(fields.size()) + " fields, the header has " + std::to_string(columns));
         row(fields, line);
     }
-    if (columns == 0) fail(path, 0, "the file is empty (no header line)");
+    if (columns == 0) file_error(path, 0, "the file is empty (no header line)");
 }
 
 /// Rejects a file without particles and particles with identical centres (undefined normal).
 template <int dim>
 void check_particles(PackingFile<dim>& f, const std::string& path) {
-    if (f.position.empty()) fail(path, 0, "the file holds no particles");
+    if (f.position.empty()) file_error(path, 0, "the file holds no particles");
     // Identical centres: sort by position and compare neighbours.
     std::vector<std::size_t> order(f.position.size());
     std::iota(order.begin(), order.end(), 0);
@@ -131,7 +132,7 @@ void check_particles(PackingFile<dim>& f, const std::string& path) {
     std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return key(a) < key(b); });
     for (std::size_t q = 1; q < order.size(); ++q)
         if (key(order[q]) == key(order[q - 1]))
-            fail(path, std::max(f.line[order[q]], f.line[order[q - 1]]),
+            file_error(path, std::max(f.line[order[q]], f.line[order[q - 1]]),
                  "particle has the same centre as the particle on line " +
                      std::to_string(std::min(f.line[order[q]], f.line[order[q - 1]])) +
                      "; the contact normal between them is undefined");
@@ -144,7 +145,7 @@ void add_particle(PackingFile<dim>& f, const std::vector<std::string>& fields, c
     Vec<dim> x;
     for (int a = 0; a < dim; ++a) x[a] = number(fields[columns[a]], path, line, names[columns[a]]);
     const double r = radius_factor * number(fields[radius_column], path, line, names[radius_column]);
-    if (!(r > 0.0)) fail(path, line, "radius " + fields[radius_column] + " is not positive; every particle needs a radius > 0");
+    if (!(r > 0.0)) file_error(path, line, "radius " + fields[radius_column] + " is not positive; every particle needs a radius > 0");
     f.position.push_back(x);
     f.radius.push_back(r);
     f.id.push_back(id_column >= 0 ? whole_number(fields[id_column], path, line, "id") : static_cast<long long>(f.id.size()));
@@ -162,7 +163,7 @@ void locate(const std::vector<std::string>& names, const std::array<const char*,
     };
     for (int a = 0; a < dim; ++a) {
         columns[a] = find(coordinates[a]);
-        if (columns[a] < 0) fail(path, line, std::string("missing column '") + coordinates[a] + "'");
+        if (columns[a] < 0) file_error(path, line, std::string("missing column '") + coordinates[a] + "'");
     }
     radius_factor = 1.0;
     radius_column = find("r");
@@ -171,7 +172,7 @@ void locate(const std::vector<std::string>& names, const std::array<const char*,
         radius_column = find("diameter");
         radius_factor = 0.5;
     }
-    if (radius_column < 0) fail(path, line, "missing column 'r' (or 'radius' or 'diameter')");
+    if (radius_column < 0) file_error(path, line, "missing column 'r' (or 'radius' or 'diameter')");
     id_column = find("id");
 }
 }  // namespace detail
@@ -195,7 +196,7 @@ PackingFile<dim> read_csv(const std::string& path) {
         [&](const std::vector<std::string>& header, std::size_t line) {
             names = header;
             if (dim == 2 && std::find(names.begin(), names.end(), "y") != names.end())
-                detail::fail(path, line, "the header names a y column: a 3D packing, read as 2D (2D files have x and z); "
+                file_error(path, line, "the header names a y column: a 3D packing, read as 2D (2D files have x and z); "
                                          "read it in 3D (analyze_packing --dim 3)");
             detail::locate<dim>(names, csv_coordinates<dim>(), columns, radius_column, radius_factor, id_column, path, line);
         },
@@ -219,7 +220,7 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
     double radius_factor = 1.0;
     [[maybe_unused]] double first_z = 0.0;  // 2D: every atom at the first one's z
     auto next = [&] {
-        if (!std::getline(in, text)) detail::fail(path, line, "the file ends early");
+        if (!std::getline(in, text)) file_error(path, line, "the file ends early");
         ++line;
         if (!text.empty() && text.back() == '\r') text.pop_back();
     };
@@ -232,18 +233,18 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
                 next();
                 const auto count = detail::split(text, ' ');
                 const long long n = detail::whole_number(count.empty() ? std::string() : count[0], path, line, "number of atoms");
-                if (n < 0) detail::fail(path, line, "a negative number of atoms, " + count[0]);
+                if (n < 0) file_error(path, line, "a negative number of atoms, " + count[0]);
                 expected = static_cast<std::size_t>(n);
                 have_count = true;
             } else if (text.rfind("ITEM: BOX BOUNDS", 0) == 0) {
                 const auto flags = detail::split(text.substr(16), ' ');
                 if (flags.size() > 3 || (!flags.empty() && flags[0] == "xy"))
-                    detail::fail(path, line, "triclinic boxes are not supported");
+                    file_error(path, line, "triclinic boxes are not supported");
                 Vec<dim> lo, hi;
                 for (int a = 0; a < 3; ++a) {
                     next();
                     const auto b = detail::split(text, ' ');
-                    if (b.size() < 2) detail::fail(path, line, "a box bound line needs two numbers");
+                    if (b.size() < 2) file_error(path, line, "a box bound line needs two numbers");
                     if (a < dim) {
                         lo[a] = detail::number(b[0], path, line, "box lo");
                         hi[a] = detail::number(b[1], path, line, "box hi");
@@ -265,7 +266,7 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
         if (text.find_first_not_of(" \t") == std::string::npos) continue;
         const auto fields = detail::split(text, ' ');
         if (fields.size() != names.size())
-            detail::fail(path, line, "has " + std::to_string(fields.size()) + " fields, ITEM: ATOMS names " + std::to_string(names.size()));
+            file_error(path, line, "has " + std::to_string(fields.size()) + " fields, ITEM: ATOMS names " + std::to_string(names.size()));
         detail::add_particle<dim>(f, fields, columns, radius_column, radius_factor, id_column, names, path, line);
         if constexpr (dim == 2) {  // LAMMPS's 2D plane is x-y, at one z
             const auto z = std::find(names.begin(), names.end(), "z");
@@ -273,16 +274,16 @@ PackingFile<dim> read_lammps_dump(const std::string& path) {
                 const double value = detail::number(fields[z - names.begin()], path, line, "z");
                 if (f.position.size() == 1) first_z = value;
                 else if (value != first_z)
-                    detail::fail(path, line, "z = " + fields[z - names.begin()] + " differs from the first atom's " +
+                    file_error(path, line, "z = " + fields[z - names.begin()] + " differs from the first atom's " +
                                                  std::to_string(first_z) + ": a 3D packing, read as 2D; read it in 3D "
                                                  "(analyze_packing --dim 3)");
             }
         }
     }
-    if (line == 0) detail::fail(path, 0, "the file is empty");
-    if (!in_atoms) detail::fail(path, line, "no ITEM: ATOMS section: not a LAMMPS dump");
+    if (line == 0) file_error(path, 0, "the file is empty");
+    if (!in_atoms) file_error(path, line, "no ITEM: ATOMS section: not a LAMMPS dump");
     if (have_count && f.position.size() != expected)
-        detail::fail(path, line, "ITEM: NUMBER OF ATOMS says " + std::to_string(expected) + ", the file holds " +
+        file_error(path, line, "ITEM: NUMBER OF ATOMS says " + std::to_string(expected) + ", the file holds " +
                                      std::to_string(f.position.size()));
     detail::check_particles(f, path);
     return f;
