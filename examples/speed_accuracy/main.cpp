@@ -422,7 +422,7 @@ int main(int argc, char** argv) {
            << format("%.0f", seconds_since(started)) << " s, " << jobs << (jobs > 1 ? " runs at a time" : " run at a time")
            << (tiny ? "; **--tiny run: 40 particles, numbers meaningless**" : "")
            << "). Every number below comes from that run; rerun it to regenerate this page and `speed-accuracy.svg`.\n\n"
-           << "Parameters: the biaxial quick preset (PAPER-NOTES section 3: k = 1e5 N/m, gamma_0 = 0.1 kg/s, radii 0.5-1.5 mm, "
+           << "Parameters: the biaxial quick preset (the paper's parameters, Sec. 4: k = 1e5 N/m, gamma_0 = 0.1 kg/s, radii 0.5-1.5 mm, "
            << "rho = 2000 kg/m^3, mu = 0.5, p = 20 N/m), 2D, " << base.particles << " particles. t_c(mean) = "
            << format("%.3g s", tc_mean) << " (two mean particles), t_c(smallest) = " << format("%.3g s", tc_small) << " = "
            << format("%.3f", small_over_mean) << " t_c(mean): the paper's t_c/50 of the mean pair is t_c/"

@@ -59,9 +59,9 @@ void check_zero_except(const mm::Tensor4<dim>& C, double scale, auto&& allowed) 
 }
 }  // namespace
 
-// Triangular lattice of equal disks, spacing l, normal springs (PAPER-NOTES section 4):
+// Triangular lattice of equal disks, spacing l, normal springs, from Eq. 9 summed by hand:
 // C_1111 = C_2222 = 3 sqrt(3)/4 k, C_1122 = C_1212 = sqrt(3)/4 k, odd entries zero,
-// tr F = 6 nu with nu = pi / (2 sqrt 3). With k_t the identities of section 4 fix C^t.
+// tr F = 6 nu with nu = pi / (2 sqrt 3). With k_t the identities below fix C^t.
 BOOST_AUTO_TEST_CASE(triangular_lattice) {
     const double l = 2e-3;
     const auto s = lattice<2>({{0, 0}, {0.5 * l, 0.5 * std::sqrt(3.0) * l}}, {l, std::sqrt(3.0) * l}, 6, l, 0.2 * k);
@@ -155,7 +155,7 @@ BOOST_AUTO_TEST_CASE(face_centred_cubic_lattice) {
     });
 }
 
-// PAPER-NOTES section 4: in 2D, for any packing, with alpha = k_t/k,
+// Exact in 2D for any packing, since there t_b t_d = delta_bd - n_b n_d (Eq. 9), with alpha = k_t/k:
 // C^t_1111 = C^t_2222 = alpha C^n_1122; C^t_1122 = -alpha C^n_1122; C^t_1212 = alpha C^n_1111;
 // C^t_2121 = alpha C^n_2222; C^t_1222 = alpha C^n_1112 = -C^t_1112; C^t_1121 = alpha C^n_1222 = -C^t_2122;
 // and C^n has full minor and major symmetry with C^n_1122 = C^n_1212.

@@ -67,7 +67,7 @@ BOOST_AUTO_TEST_CASE(helpers_invert_each_other) {
         const double gamma = mm::damping_for_restitution(k, m12, e);
         BOOST_TEST(std::abs(mm::restitution(k, gamma, m12) - e) < 1e-12);
     }
-    // PAPER-NOTES section 3: two 1 mm particles, t_c = 2.04e-5 s, e = 0.78.
+    // The paper's parameters (Sec. 4): two 1 mm particles, t_c = 2.04e-5 s, e = 0.78 by Eq. 22.
     BOOST_TEST(std::abs(mm::contact_duration(k, gamma0, m12) - 2.04e-5) < 0.01e-5);
     BOOST_TEST(std::abs(mm::restitution(k, gamma0, m12) - 0.78) < 0.005);
     BOOST_TEST(mm::reduced_mass(2.0, std::numeric_limits<double>::infinity()) == 2.0);

@@ -17,7 +17,7 @@ template <int d>
 using Dim = std::integral_constant<int, d>;
 using Dims = std::tuple<Dim<2>, Dim<3>>;
 
-// Paper parameters (PAPER-NOTES section 3).
+// The paper's parameters (Sec. 4): density, normal stiffness and damping, mean radius.
 inline constexpr double rho = 2000.0, k = 1e5, gamma0 = 0.1, a_mean = 1e-3;
 
 /// The cube [0, L)^dim, periodic on every axis.

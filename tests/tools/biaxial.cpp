@@ -115,7 +115,7 @@ BOOST_AUTO_TEST_CASE(anisotropy_against_the_compression) {
     BOOST_TEST(loaded("C_n_2222") > 1.3 * loaded("C_n_1111"));
 }
 
-// PAPER-NOTES section 4 in every row: C^t_1111 = C^t_2222 = alpha C^n_1122, C^t_1122 = -alpha
+// Exact in 2D for any packing (t_b t_d = delta_bd - n_b n_d in Eq. 9), so in every row: C^t_1111 = C^t_2222 = alpha C^n_1122, C^t_1122 = -alpha
 // C^n_1122, C^t_1212 = alpha C^n_1111, C^t_2121 = alpha C^n_2222, C^t_1222 = alpha C^n_1112,
 // C^t_1121 = alpha C^n_1222 (alpha = 0.2).
 BOOST_AUTO_TEST_CASE(stiffness_identities_in_every_row) {

@@ -6,7 +6,8 @@
 // the region. Particle-centre rule: each partner inside brings its share of the branch (for
 // stress and stiffness) or its own volume (for the fabric). Both give every contact of a
 // periodic packing weight 1 over the whole box, so the rules agree there, and both count each
-// contact once with the centre-to-centre branch vector l (see PAPER-NOTES section 2):
+// contact once with the centre-to-centre branch vector l (a sum over particles, as Eq. 14 is
+// written, would take the centre-to-contact-point vectors instead):
 //   F       = 1/V sum w_V (n n),                     w_V = (V^p + V^q) inside (Eq. 31)
 //   sigma   = 1/V sum w  l (x) f                     (compression positive)
 //   C^n     = 1/V sum w  k   l^2 n_a n_b n_c n_d
