@@ -28,14 +28,22 @@ inline std::string write_file(const std::filesystem::path& dir, const std::strin
 }
 
 /// A fresh, empty work folder of this test process under the system's temporary folder: `name`
-/// plus the process id, so that two test processes (two builds tested at once, say) never
-/// share one. Each tools test removes it when it ends (a global fixture).
-inline std::filesystem::path work_folder(const std::string& name) {
-    const auto folder = std::filesystem::temp_directory_path() / (name + "." + std::to_string(::getpid()));
-    std::filesystem::remove_all(folder);
-    std::filesystem::create_directories(folder);
-    return folder;
-}
+/// plus the process id, so that two test processes (two builds tested at once, say) never share
+/// one. Removed when the object goes: at the end of the process for one at namespace scope.
+struct WorkFolder {
+    std::filesystem::path path;
+    explicit WorkFolder(const std::string& name)
+        : path(std::filesystem::temp_directory_path() / (name + "." + std::to_string(::getpid()))) {
+        std::filesystem::remove_all(path);
+        std::filesystem::create_directories(path);
+    }
+    ~WorkFolder() {
+        std::error_code ignored;
+        std::filesystem::remove_all(path, ignored);
+    }
+    WorkFolder(const WorkFolder&) = delete;
+    WorkFolder& operator=(const WorkFolder&) = delete;
+};
 
 struct ProgramResult {
     int status;     ///< as std::system returns it: 0 for success

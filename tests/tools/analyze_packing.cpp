@@ -21,15 +21,8 @@ using namespace mmtest;
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path work = mmtest::work_folder("micromacro_analyze_packing_test");
-// The work folder goes when the test process ends.
-struct RemoveWork {
-    ~RemoveWork() {
-        std::error_code ignored;
-        fs::remove_all(work, ignored);
-    }
-};
-BOOST_GLOBAL_FIXTURE(RemoveWork);
+const mmtest::WorkFolder work_folder("micromacro_analyze_packing_test");  // removed when the test process ends
+const fs::path& work = work_folder.path;
 
 mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(ANALYZE_PACKING, args, work); }
 

@@ -23,15 +23,8 @@
 namespace fs = std::filesystem;
 
 namespace {
-const fs::path work = mmtest::work_folder("micromacro_biaxial_test");
-// The work folder goes when the test process ends.
-struct RemoveWork {
-    ~RemoveWork() {
-        std::error_code ignored;
-        fs::remove_all(work, ignored);
-    }
-};
-BOOST_GLOBAL_FIXTURE(RemoveWork);
+const mmtest::WorkFolder work_folder("micromacro_biaxial_test");  // removed when the test process ends
+const fs::path& work = work_folder.path;
 #ifdef BIAXIAL_WITH_VTK
 constexpr bool with_vtk = true;  // the program writes VTK frames
 #else

@@ -15,15 +15,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-const fs::path work = mmtest::work_folder("micromacro_exit_status");
-// The work folder goes when the test process ends.
-struct RemoveWork {
-    ~RemoveWork() {
-        std::error_code ignored;
-        fs::remove_all(work, ignored);
-    }
-};
-BOOST_GLOBAL_FIXTURE(RemoveWork);
+const mmtest::WorkFolder work_folder("micromacro_exit_status");  // removed when the test process ends
+const fs::path& work = work_folder.path;
 const std::string missing = "/nonexistent_micromacro_input";
 
 struct Expectation {
