@@ -31,4 +31,5 @@
 #include "micromacro/engine/relaxed_probe.hpp"
 #include "micromacro/engine/simulation.hpp"
 #include "micromacro/engine/snapshot.hpp"
+#include "micromacro/io/detected_contacts.hpp"
 #include "micromacro/io/state.hpp"

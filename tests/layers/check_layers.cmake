@@ -16,7 +16,7 @@ set(layer_walls 1)
 set(layer_neighbors 1)
 set(layer_integrators 1)
 set(layer_forces 2)       # body forces act on particles
-set(layer_averaging 2)    # a frozen snapshot: core, index pairs and a neighbour search only
+set(layer_averaging 1)    # a frozen snapshot: it needs the core only
 set(layer_engine 3)       # the simulation and what runs one (snapshots of it, probes)
 set(layer_io 4)
 set(layer_umbrella 5)

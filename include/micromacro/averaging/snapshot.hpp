@@ -1,7 +1,7 @@
 #pragma once
 // What the averaging works on: a frozen packing with its contacts and their forces, taken from a
-// running simulation (engine/snapshot.hpp) or built from a packing file. Averages never touch the
-// engine, so a packing made by any code can be analysed the same way.
+// running simulation (engine/snapshot.hpp) or built from a packing file (io/detected_contacts.hpp).
+// Averages never touch the engine, so a packing made by any code can be analysed the same way.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -12,7 +12,6 @@
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/core/index.hpp"
-#include "micromacro/neighbors/linked_cells.hpp"
 
 namespace micromacro {
 
@@ -100,35 +99,5 @@ ContactRecord<dim> pair_record(Index i, Index j, const Vec<dim>& ri, double ai, 
     return c;
 }
 }  // namespace detail
-
-/// Finds the contacts of a packing given only positions and radii (overlap > 0) and gives them
-/// linear forces: f_n = k overlap, no tangential force, stiffnesses k and kt for the stiffness
-/// tensor. Wall contacts are not searched (a file packing has no walls).
-template <int dim>
-void detect_contacts(PackingSnapshot<dim>& s, double k, double kt) {
-    detail::require_positive(k, "k", "give the normal contact stiffness in N/m");
-    detail::require_non_negative(kt, "kt", "use 0 for frictionless contacts");
-    for (std::size_t p = 0; p < s.size(); ++p) {
-        for (int a = 0; a < dim; ++a)
-            if (!std::isfinite(s.position[p][a]))
-                detail::throw_input_error("particle ", p, ": position component ", a, " = ", s.position[p][a], " is not finite");
-        if (!(s.radius[p] > 0.0) || !std::isfinite(s.radius[p]))
-            detail::throw_input_error("particle ", p, ": radius = ", s.radius[p], " is invalid: it must be finite and > 0");
-    }
-    if (!s.radius.empty()) s.domain.check_interaction_range(2.0 * *std::max_element(s.radius.begin(), s.radius.end()));
-    std::vector<IndexPair> pairs;
-    LinkedCells().find_pairs(s.position, s.radius, s.domain, 0.0, pairs);
-    s.contacts.clear();
-    for (const auto [i, j] : pairs) {
-        const Vec<dim> branch = s.domain.separation(s.position[i], s.position[j]);
-        if (branch.squaredNorm() == 0.0)
-            detail::throw_input_error("particles ", i, " and ", j, " have coincident centres; the contact normal is undefined");
-        auto c = detail::pair_record<dim>(i, j, s.position[i], s.radius[i], s.radius[j], branch, s.domain);
-        c.normal_force = k * c.overlap;
-        c.k = k;
-        c.kt = kt;
-        s.contacts.push_back(c);
-    }
-}
 
 }  // namespace micromacro
