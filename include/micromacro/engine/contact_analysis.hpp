@@ -31,8 +31,7 @@ void visit_contacts(const ContactLoopInput<dim, Real, History>& in, const Domain
         const double dist = d.norm(), reach = double(in.r[i]) + double(in.r[j]);
         if (!(dist < reach) || dist == 0.0) continue;
         const V n = d * (1.0 / dist);  // as the force loop computes it
-        const V vr = contact_point_velocity<rotation>(n, V(convert<double>(in.v[i]) - convert<double>(in.v[j])), in.w, i, j,
-                                                      in.r[i], in.r[j]);
+        const V vr = pair_point_velocity<rotation>(in, i, j, n);
         f(contact_view(law, i, j, false, n, reach - dist, d, vr, history(pairs, c)));
     }
     if (!walls) return;

@@ -40,6 +40,14 @@ struct ContactLoopInput {
     History* history;
 };
 
+/// v_ij of Eq. 25 for the pair (i, j) with normal n, read from the stored arrays (for the passes
+/// outside the pair loop, which has v_i - v_j at hand already).
+template <bool rotation, int dim, class Real, class History>
+MICROMACRO_INLINE Vec<dim> pair_point_velocity(const ContactLoopInput<dim, Real, History>& in, Index i, Index j, const Vec<dim>& n) {
+    return contact_point_velocity<rotation>(n, Vec<dim>(convert<double>(in.v[i]) - convert<double>(in.v[j])), in.w, i, j, in.r[i],
+                                            in.r[j]);
+}
+
 /// Adds force f and torque arm contributions of one pair to i, and to j if this share owns it.
 template <int dim, class Real, bool rotation>
 MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim, Real>& stored, [[maybe_unused]] const Angular<dim>& arm,

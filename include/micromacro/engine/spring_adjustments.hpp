@@ -28,8 +28,7 @@ void step_back_springs(const ContactLoopInput<dim, Real, History>& in, const Dom
         const double dist = d.norm();
         if (dist == 0.0) continue;
         const V n = d * (1.0 / dist);
-        const V vr = contact_point_velocity<rotation>(n, V(convert<double>(in.v[i]) - convert<double>(in.v[j])), in.w, i, j,
-                                                      in.r[i], in.r[j]);
+        const V vr = pair_point_velocity<rotation>(in, i, j, n);
         law.tangential.step_back(n, vr, evaluated_dt, dt, pairs.history(c));
     }
     if (!walls) return;
