@@ -34,7 +34,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(crossing_keeps_contact_and_spring, D, Dims) {
         sim.for_each_contact([&](const mm::ContactView<dim>& c) {
             out.push_back(c.geometry.overlap);
             out.push_back(c.tangential_force.norm());
-            out.push_back(c.elastic_energy);
+            out.push_back(c.elastic_energy());
         });
         out.push_back(sim.particles().position()[0][0]);
         return std::pair{out, sim.neighbor_rebuilds()};

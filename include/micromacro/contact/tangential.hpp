@@ -30,6 +30,7 @@ struct Frictionless {
     template <int dim>
     using History = NoHistory;
     double stiffness() const { return 0.0; }
+    double damping() const { return 0.0; }
 };
 
 /// The Cundall-Strack tangential spring of Eq. 23-29, in 2D and 3D, with what its next step
@@ -77,6 +78,14 @@ public:
 
     double stiffness() const { return kt_; }
     double damping() const { return gamma_t_; }
+    /// The same friction with another spring and dashpot, for laws whose tangential stiffness
+    /// changes with the overlap (HertzMindlin); unchecked, the caller computes valid ones.
+    CundallStrack with_stiffness(double kt, double gamma_t) const {
+        CundallStrack c = *this;
+        c.kt_ = kt;
+        c.gamma_t_ = gamma_t;
+        return c;
+    }
     double mu_static() const { return mu_s_; }
     double mu_dynamic() const { return mu_d_; }
 

@@ -4,6 +4,7 @@
 // speeds after and before. Oblique, with friction: the spin and the tangential velocity it leaves,
 // for the convergence of the tangential spring (no closed form: compare with a much smaller step).
 #include <cmath>
+#include <type_traits>
 
 #include "micromacro/contact/contact_law.hpp"
 #include "micromacro/engine/simulation.hpp"
@@ -21,15 +22,20 @@ struct CollisionMeasurement {
 /// step dt, in dimension dim, integrated by `Integrator`. No friction, no background damping.
 /// The contact begins `entry_phase` (0..1) of a step before the fourth step ends: at coarse steps
 /// the result depends on it (tests/physics/extremes.cpp derives by how much). `Real` is the
-/// storage precision (see BasicSimulation; float is accepted however coarse).
-template <int dim, class Integrator = VelocityVerlet, class Real = double>
-CollisionMeasurement measure_normal_collision(const LinearSpringDashpot& law, double m1, double a1, double m2,
-                                              double a2, double v, double dt, double entry_phase = 0.5) {
+/// storage precision (see BasicSimulation; float is accepted however coarse). `law` is a contact
+/// law (ContactLawModel) or a normal model alone (NormalModel, e.g. LinearSpringDashpot).
+template <int dim, class Integrator = VelocityVerlet, class Real = double, class GivenLaw>
+CollisionMeasurement measure_normal_collision(const GivenLaw& law, double m1, double a1, double m2, double a2, double v,
+                                              double dt, double entry_phase = 0.5) {
     detail::require_positive(v, "approach speed", "the particles must approach");
     if (!(entry_phase > 0.0 && entry_phase <= 1.0))
         detail::throw_input_error("entry phase ", entry_phase, " is outside (0, 1]; it is the fraction of a step in contact");
-    using Law = ContactLaw<LinearSpringDashpot>;
-    BasicSimulation<dim, Real, Law, NoWalls, Integrator, BruteForce> sim(Law{law});
+    const auto contact_law = [&] {
+        if constexpr (NormalModel<GivenLaw>) return ContactLaw<GivenLaw>{law};
+        else return law;
+    }();
+    using Law = std::remove_const_t<decltype(contact_law)>;
+    BasicSimulation<dim, Real, Law, NoWalls, Integrator, BruteForce> sim(contact_law);
     sim.allow_coarse_positions(true);
     sim.set_time_step(dt);
     Vec<dim> gap = Vec<dim>::Zero();
@@ -42,7 +48,9 @@ CollisionMeasurement measure_normal_collision(const LinearSpringDashpot& law, do
     sim.set_skin(0.5 * std::min(a1, a2));
     auto overlap = [&] { return a1 + a2 - (convert<double>(p.position()[1]) - convert<double>(p.position()[0])).norm(); };
 
-    const double tc_guess = contact_duration(law.stiffness(), law.damping(), reduced_mass(m1, m2));
+    // The contact duration at the law's stiffest (exact for a constant stiffness).
+    const StiffnessBound stiffest = contact_law.stiffness_bound(a1 * a2 / (a1 + a2), reduced_mass(m1, m2));
+    const double tc_guess = contact_duration(stiffest.normal_stiffness, stiffest.normal_damping, reduced_mass(m1, m2));
     const auto max_steps = static_cast<std::size_t>(20.0 * tc_guess / dt) + 100;
     double start = -1.0, end = -1.0, previous = overlap();
     sim.prepare();
@@ -73,7 +81,8 @@ struct ObliqueImpact {
 /// arriving along x at `speed` with impact parameter b, offset along y in 2D and along
 /// (0, cos 30, sin 30) in 3D, where it also spins at `spin` rad/s about its direction of flight
 /// (so the spring turns in its tangent plane). The surfaces meet `entry_phase` (0..1] of a step
-/// before the fourth step ends; the run stops two contact durations after that, parted.
+/// before the fourth step ends; the run stops two contact durations after that (of the law's
+/// stiffest contact, see ContactLawIn::stiffness_bound), or later once the particles have parted.
 template <int dim, class Law, class Integrator = VelocityVerlet>
 ObliqueImpact measure_oblique_impact(const Law& law, double m, double a, double speed, double b, double dt,
                                      double entry_phase = 0.5, double spin = 0.0) {
@@ -98,10 +107,17 @@ ObliqueImpact measure_oblique_impact(const Law& law, double m, double a, double 
     p.velocity()[1][0] = speed;
     if constexpr (dim == 3 && Law::needs_rotation) p.template get<field::AngularVelocity>()[1] = V(spin, 0.0, 0.0);
     sim.set_skin(0.5 * a);
-    const double tc = contact_duration(law.normal.stiffness(), law.normal.damping(), m / 2);
-    sim.run(static_cast<std::size_t>((meet + 2.0 * tc) / dt) + 2);
-    if (sim.contact_count() != 0)
-        throw SimulationError("measure_oblique_impact: the particles are still in contact two contact durations after they met");
+    // The contact duration at the law's stiffest (exact for a constant stiffness); a softer
+    // contact lasts longer, and the run goes on until the particles have parted.
+    const StiffnessBound stiffest = law.stiffness_bound(a / 2, m / 2);
+    const double tc = contact_duration(stiffest.normal_stiffness, stiffest.normal_damping, m / 2);
+    const auto steps = static_cast<std::size_t>((meet + 2.0 * tc) / dt) + 2;
+    sim.run(steps);
+    for (std::size_t more = 0; sim.contact_count() != 0; ++more) {
+        if (more > 100 * steps)
+            throw SimulationError("measure_oblique_impact: the particles are still in contact 200 contact durations after they met");
+        sim.step();
+    }
     ObliqueImpact out{Vec<3>::Zero(), Vec<3>::Zero(), sim.steps_done()};
     if constexpr (Law::needs_rotation) {
         const auto w = p.template get<field::AngularVelocity>()[0];

@@ -1,7 +1,7 @@
 #pragma once
 // The contacts of the present state as analysis sees them: every touching pair and wall
 // contact as a ContactView, with the forces the law gives for that state (see
-// CundallStrack::current_force). The force loops never come here.
+// ContactLawIn::state). The force loops never come here.
 #include <cstddef>
 
 #include "micromacro/contact/contact_list.hpp"
@@ -16,23 +16,26 @@ namespace micromacro::detail {
 
 /// Calls f(ContactView) for every candidate of `pairs` with positive overlap, then every wall
 /// candidate of `wall_contacts` that touches (`walls` and `wall_contacts` null without walls).
-/// `in` holds the particle arrays (its pair and history pointers are not used).
+/// `in` holds the particle arrays (its pair and history pointers are not used). A frictionless
+/// wall's contacts are shown to the law without history: normal part only.
 template <bool rotation, int dim, class Real, class Law, class History, class F>
 void visit_contacts(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law,
                     const ContactList<History>& pairs, const Walls<dim>* walls, const ContactList<History>* wall_contacts, F&& f) {
     using V = Vec<dim>;
-    auto history = [](const ContactList<History>& list, [[maybe_unused]] std::size_t c) -> const History* {
-        if constexpr (Law::has_tangential) return &list.history(c);
-        else return nullptr;
+    static const History none{};  // for a law without history
+    auto history = [&](const ContactList<History>& list, [[maybe_unused]] std::size_t c) -> const History* {
+        if constexpr (Law::has_history) return &list.history(c);
+        else return &none;
     };
+    // The analysis sees the present state: no step to advance by.
+    constexpr double dt = 0.0;
     for (std::size_t c = 0; c < pairs.size(); ++c) {
         const auto [i, j] = pairs.pairs()[c];
         const V d = domain.separation(convert<double>(in.x[i]), convert<double>(in.x[j]));
         const double dist = d.norm(), reach = double(in.r[i]) + double(in.r[j]);
         if (!(dist < reach) || dist == 0.0) continue;
         const V n = d * (1.0 / dist);  // as the force loop computes it
-        const V vr = pair_point_velocity<rotation>(in, i, j, n);
-        f(contact_view(law, i, j, false, n, reach - dist, d, vr, history(pairs, c)));
+        f(contact_view(law, i, j, false, pair_kinematics<rotation>(in, i, j, n, dist, dt), d, history(pairs, c)));
     }
     if (!walls) return;
     for (std::size_t c = 0; c < wall_contacts->size(); ++c) {
@@ -40,8 +43,8 @@ void visit_contacts(const ContactLoopInput<dim, Real, History>& in, const Domain
         const auto& wall = (*walls)[w];
         const double s = wall.distance(convert<double>(in.x[i])), a = in.r[i];
         if (!(s < a)) continue;
-        f(contact_view(law, i, w, true, wall.normal, a - s, V(s * wall.normal), wall_point_velocity<rotation>(in, i, wall),
-                       history(*wall_contacts, c), wall.frictionless));
+        f(contact_view(law, i, w, true, wall_kinematics<rotation>(in, i, wall, s, dt), V(s * wall.normal),
+                       wall.frictionless ? nullptr : history(*wall_contacts, c)));
     }
 }
 

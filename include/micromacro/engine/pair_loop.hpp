@@ -9,7 +9,8 @@
 #include <type_traits>
 #include <vector>
 
-#include "micromacro/contact/tangential.hpp"
+#include "micromacro/contact/contact_law.hpp"
+#include "micromacro/contact/geometry.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/energy.hpp"
@@ -29,12 +30,13 @@ struct Spill {
 };
 
 /// The stored arrays the pair and wall loops read, as raw pointers: the particles' (`w` null
-/// without rotation) and one contact list's (`history` null without a tangential law).
+/// without rotation) and one contact list's (`history` null for a law without history).
 template <int dim, class Real, class History>
 struct ContactLoopInput {
     const Vec<dim, Real>* x;
     const Vec<dim, Real>* v;
     const Real* r;
+    const Real* inverse_mass;
     const Angular<dim, Real>* w;
     const IndexPair* pair;
     History* history;
@@ -46,6 +48,16 @@ template <bool rotation, int dim, class Real, class History>
 MICROMACRO_INLINE Vec<dim> pair_point_velocity(const ContactLoopInput<dim, Real, History>& in, Index i, Index j, const Vec<dim>& n) {
     return contact_point_velocity<rotation>(n, Vec<dim>(convert<double>(in.v[i]) - convert<double>(in.v[j])), in.w, i, j, in.r[i],
                                             in.r[j]);
+}
+
+/// The kinematics of the pair (i, j) at distance `dist` along n, read from the stored arrays (for
+/// the passes outside the pair loop).
+template <bool rotation, int dim, class Real, class History>
+MICROMACRO_INLINE ContactKinematics<dim> pair_kinematics(const ContactLoopInput<dim, Real, History>& in, Index i, Index j,
+                                                         const Vec<dim>& n, double dist, double dt) {
+    const Vec<dim> dv = convert<double>(in.v[i]) - convert<double>(in.v[j]);
+    const Vec<dim> vr = contact_point_velocity<rotation>(n, dv, in.w, i, j, in.r[i], in.r[j]);
+    return {{n, double(in.r[i]) + double(in.r[j]) - dist, n.dot(dv), vr}, in.r[i], in.r[j], in.inverse_mass[i], in.inverse_mass[j], dt};
 }
 
 /// Adds force f and torque arm contributions of one pair to i, and to j if this share owns it.
@@ -67,9 +79,10 @@ MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim, Real>& st
     }
 }
 
-/// The rest of the last evaluation's tangential impulse for a pair found open whose history says
-/// it touched then (see opening_correction), added to both particles like a contact's force. Out
-/// of the pair loop's way: one pair in thousands per step comes here.
+/// What the law adds at the evaluation that finds a pair open whose history says it touched at
+/// the last one (ContactLawIn::opening_force; for the built-in spring, the rest of its last
+/// impulse), added to both particles like a contact's force. Out of the pair loop's way: one pair
+/// in thousands per step comes here.
 template <bool periodic, bool rotation, int dim, class Real, class Law, class History>
 MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law, double dt,
                                  IndexPair p, const History& h, Vec<dim, Real>* f, Angular<dim, Real>* torque, Index owned_end,
@@ -80,8 +93,7 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
     const double dist = d.norm();
     if (!(dist > 0.0)) return;
     const V n = d / dist;
-    const V force = opening_correction(law, h, n, double(in.r[i]) + double(in.r[j]) - dist,
-                                       n.dot(convert<double>(in.v[i]) - convert<double>(in.v[j])), dt);
+    const V force = law.opening_force(pair_kinematics<rotation>(in, i, j, n, dist, dt), h);
     Angular<dim> arm{};
     if constexpr (rotation) arm = DimTraits<dim>::cross(n, force);
     add_pair_force<dim, Real, rotation>(i, j, convert<Real>(force), arm, double(in.r[i]), double(in.r[j]), f, torque, owned_end,
@@ -101,10 +113,11 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
                EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill) {
     using V = Vec<dim>;
     using SV = Vec<dim, Real>;
-    constexpr bool has_tangential = Law::has_tangential;
+    constexpr bool has_history = Law::has_history;
     const SV* x = in.x;
     const SV* v = in.v;
     const Real* r = in.r;
+    const Real* inverse_mass = in.inverse_mass;
     [[maybe_unused]] const Angular<dim, Real>* w = in.w;
     const IndexPair* pair = in.pair;
     [[maybe_unused]] History* history = in.history;
@@ -133,16 +146,16 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
             const double dist_sq = d.squaredNorm(), reach = double(r[i]) + double(r[j]);
             const bool touches = dist_sq < reach * reach;
             touching[count] = static_cast<std::uint32_t>(c - b0);
-            if constexpr (has_tangential) opened[open] = static_cast<std::uint32_t>(c - b0);
+            if constexpr (has_history) opened[open] = static_cast<std::uint32_t>(c - b0);
             separation[count] = d;
             separation_sq[count] = dist_sq;
             count += touches;
             open += !touches;
         }
-        if constexpr (has_tangential)
+        if constexpr (has_history)
             for (std::size_t k = 0; k < open; ++k) {  // the contact opened, if it was one
                 History& h = history[b0 + opened[k]];
-                if (h.touching) [[unlikely]]
+                if (law.touched(h)) [[unlikely]]
                     opened_pair<periodic, rotation>(in, box, contact_law, dt, pair[b0 + opened[k]], h, f, torque, owned_end, spill);
                 h = History{};
             }
@@ -164,9 +177,14 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
             const V n = separation[k] * inverse_distance[k];
             const V dv = convert<double>(v[i]) - convert<double>(v[j]);
             const V vr = contact_point_velocity<rotation>(n, dv, w, i, j, ri, rj);
-            History* h = nullptr;
-            if constexpr (has_tangential) h = history + c;
-            const ContactResponse<dim> resp = respond<track>(law, dt, n, reach - dist, n.dot(dv), vr, h, account);
+            const ContactKinematics<dim> kinematics{{n, reach - dist, n.dot(dv), vr}, ri, rj,
+                                                    double(inverse_mass[i]), double(inverse_mass[j]), dt};
+            [[maybe_unused]] NoHistory none;
+            History& h = [&]() -> History& {
+                if constexpr (has_history) return history[c];
+                else return none;
+            }();
+            const ContactResponse<dim> resp = respond<track>(law, kinematics, h, account);
             Angular<dim> arm{};
             if constexpr (rotation) arm = DimTraits<dim>::cross(n, resp.tangential);
             add_pair_force<dim, Real, rotation>(i, j, convert<Real>(resp.force), arm, ri, rj, f, torque, owned_end, spill);

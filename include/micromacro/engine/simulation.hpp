@@ -51,6 +51,7 @@ template <int dim, class Real, class Law, class Boundary = NoWalls, class Integr
 class BasicSimulation {
     static_assert(SupportedDimension<dim>, "the engine runs in 2 or 3 dimensions");
     static_assert(std::is_same_v<Real, double> || std::is_same_v<Real, float>, "particle state is stored in double or float");
+    static_assert(ContactLawIn<Law, dim>, "the contact law does not satisfy ContactLawModel (contact/contact_law.hpp)");
 
 public:
     static constexpr int dimension = dim;
@@ -291,14 +292,16 @@ private:
     // The arrays the pair and wall loops read: the particles' (particle_input) and a contact list's.
     detail::ContactLoopInput<dim, Real, History> particle_input() const {
         detail::ContactLoopInput<dim, Real, History> in{particles_.position().data(), particles_.velocity().data(),
-                                                        particles_.radius().data(), nullptr, nullptr, nullptr};
+                                                        particles_.radius().data(),
+                                                        particles_.template get<field::InverseMass>().data(), nullptr,
+                                                        nullptr, nullptr};
         if constexpr (rotation) in.w = particles_.template get<field::AngularVelocity>().data();
         return in;
     }
     detail::ContactLoopInput<dim, Real, History> contact_input(ContactList<History>& list) {
         auto in = particle_input();
         in.pair = list.pairs().data();
-        if constexpr (has_tangential) in.history = list.history_data();
+        if constexpr (Law::has_history) in.history = list.history_data();
         return in;
     }
 

@@ -17,8 +17,8 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     e.kinetic_rotational = particles_.rotational_kinetic_energy();
     if constexpr (has_walls) e.kinetic_walls = walls_.kinetic_energy();
     for_each_contact([&](const ContactView<dim>& c) {
-        e.elastic_normal += law_.normal.elastic_energy(c.geometry.overlap);
-        e.elastic_tangential += c.elastic_energy - law_.normal.elastic_energy(c.geometry.overlap);
+        e.elastic_normal += c.normal_energy;
+        e.elastic_tangential += c.tangential_energy;
     });
     std::apply([&](const auto&... f) { ((e.gravitational += gravitational_energy(f)), ...); }, body_forces_);
     return e;
@@ -36,10 +36,10 @@ template <int dim, class Real, class Law, class Boundary, class Integrator, clas
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::potential_energy_per_particle() const -> std::vector<double> {
     std::vector<double> u(particles_.size(), 0.0);
     for_each_contact([&](const ContactView<dim>& c) {
-        if (c.wall) u[c.i] += c.elastic_energy;
+        if (c.wall) u[c.i] += c.elastic_energy();
         else {
-            u[c.i] += 0.5 * c.elastic_energy;
-            u[c.j] += 0.5 * c.elastic_energy;
+            u[c.i] += 0.5 * c.elastic_energy();
+            u[c.j] += 0.5 * c.elastic_energy();
         }
     });
     return u;
@@ -51,7 +51,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     const double energy_before = track_energy_ ? energy().total() : 0.0;
     const Domain<dim> deformed = domain_.deformed(F);
     auto& x = particles_.template get<field::Position>();
-    if constexpr (has_tangential) {
+    if constexpr (Law::has_history) {
         const auto [walls, wall_contacts] = wall_parts();
         detail::load_springs_affinely(F, particle_input(), domain_, law_, pairs_, walls, wall_contacts);
     }

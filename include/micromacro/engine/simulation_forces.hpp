@@ -70,7 +70,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::step_back_springs() -> void {
-    if constexpr (has_tangential) {
+    if constexpr (Law::has_history) {
         if (!(evaluated_dt_ > 0.0)) return;  // nothing evaluated yet
         const auto [walls, wall_contacts] = wall_parts();
         detail::step_back_springs<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, evaluated_dt_, dt_);

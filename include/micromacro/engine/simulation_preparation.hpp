@@ -14,19 +14,34 @@ namespace micromacro {
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::stable_time_step() const -> double {
     if (particles_.empty()) return std::numeric_limits<double>::infinity();
-    const double inv_max = particles_.largest_inverse_mass();
     bool any_wall = false;
     if constexpr (has_walls) any_wall = walls_.size() > 0;
-    if (particles_.size() < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
-    const double partners = particles_.size() > 1 ? 2.0 : 1.0;  // another particle, or a wall
-    double limit = normal_time_step_limit<Integrator>(law_.normal, partners * inv_max);
-    if constexpr (has_tangential)
-        limit = std::min(limit, tangential_time_step_limit<Integrator>(law_.tangential,
-                                                                       partners * particles_.largest_contact_point_mobility()));
-    if constexpr (has_walls)  // a stress-controlled wall on one contact
-        for (const auto& w : walls_)
-            if (const auto* s = std::get_if<StressControlled>(&w.motion))
-                limit = std::min(limit, stress_wall_time_step_limit(law_.normal, s->mass, s->damping, inv_max));
+    const std::size_t n = particles_.size();
+    if (n < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
+    // Each particle on its stiffest partner: a particle like itself (the lightest pair of a
+    // polydisperse packing is at least as stable), or a wall when it is alone. The law bounds its
+    // stiffness for that pair's effective radius and mass.
+    const double partners = n > 1 ? 2.0 : 1.0;
+    const auto& r = particles_.radius();
+    const auto& inverse_mass = particles_.template get<field::InverseMass>();
+    double limit = std::numeric_limits<double>::infinity();
+    for (std::size_t i = 0; i < n; ++i) {
+        const double a = r[i], inv = inverse_mass[i];
+        const StiffnessBound b = law_.stiffness_bound(n > 1 ? 0.5 * a : a, 1.0 / (partners * inv));
+        limit = std::min(limit, normal_time_step_limit<Integrator>(b.normal_stiffness, b.normal_damping, partners * inv));
+        if constexpr (has_tangential) {
+            double mobility = inv;  // of the contact point: 1/m + a^2/I
+            if constexpr (rotation) mobility += a * a * double(particles_.template get<field::InverseInertia>()[i]);
+            limit = std::min(limit, tangential_time_step_limit<Integrator>(b.tangential_stiffness, b.tangential_damping,
+                                                                           partners * mobility));
+        }
+        if constexpr (has_walls)  // a stress-controlled wall on one contact
+            for (const auto& w : walls_)
+                if (const auto* s = std::get_if<StressControlled>(&w.motion)) {
+                    const StiffnessBound on_wall = law_.stiffness_bound(a, 1.0 / inv);
+                    limit = std::min(limit, stress_wall_time_step_limit(on_wall.normal_stiffness, s->mass, s->damping, inv));
+                }
+    }
     return limit;
 }
 

@@ -6,8 +6,8 @@
 
 namespace micromacro {
 
-/// The packing and contacts of a simulation at its present state (forces as for_each_contact
-/// reports them).
+/// The packing and contacts of a simulation at its present state (forces and each contact's
+/// stiffnesses as for_each_contact reports them).
 template <class Sim>
 PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
     constexpr int dim = Sim::dimension;
@@ -20,9 +20,6 @@ PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
         s.radius.push_back(p.radius()[i]);
         s.mass.push_back(p.mass()[i]);
     }
-    double kt = 0.0;
-    if constexpr (Sim::has_tangential) kt = sim.law().tangential.stiffness();
-    const double k = sim.law().normal.stiffness();
     sim.for_each_contact([&](const ContactView<dim>& v) {
         ContactRecord<dim> c;
         if (v.wall) {
@@ -40,8 +37,8 @@ PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
         }
         c.normal_force = v.normal_force;
         c.tangential_force = v.tangential_force;
-        c.k = k;
-        c.kt = kt;
+        c.k = v.stiffness;
+        c.kt = v.tangential_stiffness;
         c.sliding = v.sliding;
         s.contacts.push_back(c);
     });

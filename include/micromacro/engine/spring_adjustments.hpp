@@ -13,10 +13,10 @@
 
 namespace micromacro::detail {
 
-/// Every spring of `pairs` and `wall_contacts` (null without walls) back to where the last
-/// evaluation, made with step `evaluated_dt`, found it (see CundallStrack::step_back), so that
-/// an evaluation of the same instant with step dt does not advance it twice. `in` holds the
-/// particle arrays.
+/// Every history of `pairs` and `wall_contacts` (null without walls) back to where the last
+/// evaluation, made with step `evaluated_dt`, found it (ContactLawIn::step_back; for the built-in
+/// spring, CundallStrack::step_back), so that an evaluation of the same instant with step dt does
+/// not advance it twice. `in` holds the particle arrays.
 template <bool rotation, int dim, class Real, class Law, class History>
 void step_back_springs(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law,
                        ContactList<History>& pairs, const Walls<dim>* walls, ContactList<History>* wall_contacts,
@@ -29,14 +29,13 @@ void step_back_springs(const ContactLoopInput<dim, Real, History>& in, const Dom
         if (dist == 0.0) continue;
         const V n = d * (1.0 / dist);
         const V vr = pair_point_velocity<rotation>(in, i, j, n);
-        law.tangential.step_back(n, vr, evaluated_dt, dt, pairs.history(c));
+        law.step_back(n, vr, evaluated_dt, dt, pairs.history(c));
     }
     if (!walls) return;
     for (std::size_t c = 0; c < wall_contacts->size(); ++c) {
         const auto [i, w] = wall_contacts->pairs()[c];
         const auto& wall = (*walls)[w];
-        law.tangential.step_back(wall.normal, wall_point_velocity<rotation>(in, i, wall), evaluated_dt, dt,
-                                 wall_contacts->history(c));
+        law.step_back(wall.normal, wall_point_velocity<rotation>(in, i, wall), evaluated_dt, dt, wall_contacts->history(c));
     }
 }
 
@@ -50,7 +49,7 @@ void load_springs_affinely(const Eigen::Matrix<double, dim, dim>& F, const Conta
     using V = Vec<dim>;
     auto load = [&](History& h, const V& l) {
         const V n = l.normalized(), moved = F * l - l;
-        law.tangential.displace(V(moved - n * n.dot(moved)), h);
+        law.displace(V(moved - n * n.dot(moved)), h);
     };
     for (std::size_t c = 0; c < pairs.size(); ++c) {
         const auto [i, j] = pairs.pairs()[c];

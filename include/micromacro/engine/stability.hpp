@@ -13,27 +13,35 @@ namespace micromacro {
 /// The largest stable dt of a contact's normal spring and dashpot between bodies of combined
 /// inverse mass `inverse_mass` (1/m_i + 1/m_j; 1/m for a particle on a wall), integrated by
 /// `Integrator`.
+template <class Integrator>
+double normal_time_step_limit(double stiffness, double damping, double inverse_mass) {
+    return Integrator::stability_limit(std::sqrt(stiffness * inverse_mass), 0.5 * damping * inverse_mass);
+}
+/// The same for a normal model with constant stiffness() and damping().
 template <class Integrator, class NormalLaw>
 double normal_time_step_limit(const NormalLaw& normal, double inverse_mass) {
-    return Integrator::stability_limit(std::sqrt(normal.stiffness() * inverse_mass), 0.5 * normal.damping() * inverse_mass);
+    return normal_time_step_limit<Integrator>(normal.stiffness(), normal.damping(), inverse_mass);
 }
 
 /// The same for a contact's tangential spring and dashpot: `mobility` is the combined tangential
 /// mobility of the contact point, the sum over both partners of 1/m + a^2/I with rotation
 /// (3.5/m for a sphere, 3/m for a disk) and of 1/m without.
+template <class Integrator>
+double tangential_time_step_limit(double stiffness, double damping, double mobility) {
+    return Integrator::stability_limit(std::sqrt(stiffness * mobility), 0.5 * damping * mobility);
+}
+/// The same for a tangential model with constant stiffness() and damping().
 template <class Integrator, class TangentialLaw>
 double tangential_time_step_limit(const TangentialLaw& tangential, double mobility) {
-    return Integrator::stability_limit(std::sqrt(tangential.stiffness() * mobility), 0.5 * tangential.damping() * mobility);
+    return tangential_time_step_limit<Integrator>(tangential.stiffness(), tangential.damping(), mobility);
 }
 
 /// A stress-controlled wall of mass `wall_mass` and damping `wall_damping` on one contact of
-/// normal stiffness k with a particle of inverse mass `particle_inverse_mass`: the wall moves by
+/// normal stiffness `stiffness` with a particle of inverse mass `particle_inverse_mass`: the wall moves by
 /// semi-implicit Euler (Walls::move).
-template <class NormalLaw>
-double stress_wall_time_step_limit(const NormalLaw& normal, double wall_mass, double wall_damping,
-                                   double particle_inverse_mass) {
+inline double stress_wall_time_step_limit(double stiffness, double wall_mass, double wall_damping, double particle_inverse_mass) {
     const double inverse_mass = 1.0 / wall_mass + particle_inverse_mass;
-    return SymplecticEuler::stability_limit(std::sqrt(normal.stiffness() * inverse_mass), 0.5 * wall_damping / wall_mass);
+    return SymplecticEuler::stability_limit(std::sqrt(stiffness * inverse_mass), 0.5 * wall_damping / wall_mass);
 }
 
 /// Refuses coordinates whose spacing `resolution` (one unit in the last place at the farthest

@@ -3,8 +3,10 @@
 // velocity of a particle's contact point on a wall, and the one wall loop (the wall is an
 // infinite-mass partner and collects the opposite force).
 #include <cstddef>
+#include <limits>
 #include <vector>
 
+#include "micromacro/contact/geometry.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/index.hpp"
@@ -33,9 +35,20 @@ MICROMACRO_INLINE Vec<dim> wall_point_velocity(const ContactLoopInput<dim, Real,
     return vr;
 }
 
+/// The kinematics of particle i on `wall` at distance s from it (the wall is a body of infinite
+/// radius and mass).
+template <bool rotation, int dim, class Real, class History>
+MICROMACRO_INLINE ContactKinematics<dim> wall_kinematics(const ContactLoopInput<dim, Real, History>& in, Index i, const Wall<dim>& wall,
+                                                         double s, double dt) {
+    const Vec<dim> vr = wall_point_velocity<rotation>(in, i, wall);
+    return {{wall.normal, double(in.r[i]) - s, wall.normal.dot(vr), vr}, in.r[i], std::numeric_limits<double>::infinity(),
+            in.inverse_mass[i], 0.0, dt};
+}
+
 /// The wall loop over the wall candidates of `in`: the law on each touching one (the normal
-/// part only on a frictionless wall), the rest of the last impulse of one that opened (see
-/// opening_correction), and each wall's force, the opposite of what its particles receive.
+/// part only on a frictionless wall), what the law adds for one that opened (see
+/// ContactLawIn::opening_force), and each wall's force, the opposite of what its particles
+/// receive.
 template <bool track, bool rotation, int dim, class Real, class Law, class History>
 void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Walls<dim>& walls, const Law& law, double dt,
                  Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque, EnergyBooks& books) {
@@ -48,11 +61,10 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
         auto& wall = walls[w];
         const double s = wall.distance(convert<double>(in.x[i])), a = in.r[i];
         if (s >= a) {
-            if constexpr (Law::has_tangential) {
+            if constexpr (Law::has_history) {
                 History& h = in.history[c];
-                if (h.touching) [[unlikely]] {  // opened in the last step: see opening_correction
-                    const V force = opening_correction(law, h, wall.normal, a - s,
-                                                       wall.normal.dot(wall_point_velocity<rotation>(in, i, wall)), dt);
+                if (law.touched(h)) [[unlikely]] {  // opened in the last step
+                    const V force = law.opening_force(wall_kinematics<rotation>(in, i, wall, s, dt), h);
                     f[i] += convert<Real>(force);
                     wall.force -= force;
                     if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(wall.normal, force)));
@@ -61,14 +73,15 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
             }
             continue;
         }
-        const V& n = wall.normal;
-        const V vr = wall_point_velocity<rotation>(in, i, wall);
-        History* h = nullptr;
-        if constexpr (Law::has_tangential) h = in.history + c;
-        const auto resp = respond<track>(law, dt, n, a - s, n.dot(vr), vr, h, books, wall.frictionless);
+        [[maybe_unused]] NoHistory none;
+        History& h = [&]() -> History& {
+            if constexpr (Law::has_history) return in.history[c];
+            else return none;
+        }();
+        const auto resp = respond<track>(law, wall_kinematics<rotation>(in, i, wall, s, dt), h, books, wall.frictionless);
         f[i] += convert<Real>(resp.force);
         wall.force -= resp.force;
-        if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(n, resp.tangential)));
+        if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(wall.normal, resp.tangential)));
     }
 }
 
