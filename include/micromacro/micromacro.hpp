@@ -12,6 +12,7 @@
 #include "micromacro/contact/contact_law.hpp"
 #include "micromacro/contact/contact_list.hpp"
 #include "micromacro/contact/geometry.hpp"
+#include "micromacro/contact/hertz_mindlin.hpp"
 #include "micromacro/contact/normal.hpp"
 #include "micromacro/contact/tangential.hpp"
 #include "micromacro/forces/body_forces.hpp"
