@@ -1,9 +1,10 @@
-// Coarse-graining kernels: each integrates to one, the grid integral of every field reproduces
+// Coarse-graining kernels (the library's and one defined here): each integrates to one, the grid integral of every field reproduces
 // the box average exactly, and a homogeneous lattice gives a uniform field equal to its box value.
 #define BOOST_TEST_MODULE physics_coarse_graining
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <numbers>
 
 #include "support/scenes.hpp"
 
@@ -20,6 +21,18 @@ double integral(const Kernel& kernel, double R, int n) {
     for (std::size_t x = 0; x < g.size(); ++x) sum += kernel.template value<dim>(g.point(x).norm());
     return sum * g.cell_volume();
 }
+
+/// A kernel written outside the library, as a user adds one: the cone A (1 - r/c) for r < c,
+/// A = 3 / (pi c^dim) in 2D and 3D.
+struct ConeKernel {
+    double width;  // c (m)
+    double support() const { return width; }
+    template <int dim>
+    double value(double r) const {
+        return r < width ? 3.0 / (std::numbers::pi * std::pow(width, dim)) * (1.0 - r / width) : 0.0;
+    }
+};
+static_assert(mm::CoarseGrainingKernel<ConeKernel>);
 }  // namespace
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(kernels_integrate_to_one, D, Dims) {
@@ -28,11 +41,12 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(kernels_integrate_to_one, D, Dims) {
     BOOST_TEST(std::abs(integral<dim>(mm::GaussianKernel{1e-3}, 8e-3, n) - 1.0) < 1e-6);
     BOOST_TEST(std::abs(integral<dim>(mm::LucyKernel{2e-3}, 2e-3, n) - 1.0) < (dim == 2 ? 1e-4 : 1e-3));
     BOOST_TEST(mm::LucyKernel{2e-3}.value<dim>(2e-3) == 0.0);  // compact support
+    BOOST_TEST(std::abs(integral<dim>(ConeKernel{2e-3}, 2e-3, n) - 1.0) < (dim == 2 ? 1e-4 : 1e-3));
 }
 
 // Summed over the grid (times the cell volume, over the box volume) every field equals the
 // whole-box average of the same packing: fabric, stress, stiffness, volume fraction, both rules,
-// both kernels, to round-off.
+// the library's kernels and one defined here, to round-off.
 BOOST_AUTO_TEST_CASE_TEMPLATE(grid_sum_reproduces_box_average, D, Dims) {
     constexpr int dim = D::value;
     const double L = dim == 2 ? 0.03 : 0.01;
@@ -76,6 +90,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(grid_sum_reproduces_box_average, D, Dims) {
         BOOST_TEST(std::abs(d - 2e-3) < 0.1e-3);  // radii uniform in [0.5, 1.5] mm
         check(mm::GaussianKernel{1.0 * d});
         check(mm::LucyKernel{2.0 * d});
+        check(ConeKernel{2.0 * d});
     }
 }
 

@@ -9,12 +9,25 @@
 // every field is exactly the box sum: sum_X field(X) dV / V equals the whole-box average.
 #include <array>
 #include <cmath>
+#include <concepts>
 #include <numbers>
 #include <vector>
 
+#include "micromacro/averaging/contact_sums.hpp"
 #include "micromacro/averaging/micro_macro.hpp"
 
 namespace micromacro {
+
+/// A coarse-graining kernel: its value at distance r (per volume, integrating to one in dim
+/// dimensions) and the radius beyond which it is zero. A new kernel is one struct with these two;
+/// coarse_grain normalises each source's weights on the grid, so a kernel's own normalisation
+/// only needs to be close.
+template <class K>
+concept CoarseGrainingKernel = requires(const K& k, double r) {
+    { k.support() } -> std::convertible_to<double>;
+    { k.template value<2>(r) } -> std::convertible_to<double>;
+    { k.template value<3>(r) } -> std::convertible_to<double>;
+};
 
 /// Gaussian exp(-r^2 / (2 w^2)) / (2 pi w^2)^(dim/2), cut at 4 w (the weight beyond is below 3e-4
 /// and goes to the grid normalisation).
@@ -41,6 +54,9 @@ struct LucyKernel {
         return norm * (1.0 + 3.0 * q) * std::pow(1.0 - q, 3);
     }
 };
+
+static_assert(CoarseGrainingKernel<GaussianKernel>);
+static_assert(CoarseGrainingKernel<LucyKernel>);
 
 /// Mean particle diameter: kernel widths are usually given in diameters, w = n * mean_diameter(s).
 template <int dim>
@@ -142,19 +158,14 @@ void spread(const Grid<dim>& g, const Domain<dim>& domain, const Kernel& kernel,
 
 /// Coarse-grained fields of the packing on `grid` (sources outside the grid's reach are an
 /// error; periodic axes wrap).
-template <int dim, class Kernel>
+template <int dim, CoarseGrainingKernel Kernel>
 CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<dim>& grid, const Kernel& kernel,
                                       const AveragingOptions& opt = {}) {
-    detail::require_positive(kernel.width, "kernel width", "give the width in m (about one particle diameter)");
+    detail::require_positive(kernel.support(), "kernel support", "give the width in m (about one particle diameter)");
     CoarseGrainedFields<dim> out;
     out.grid = grid;
     const std::size_t n = grid.size();
     out.volume_fraction.assign(n, 0.0);
-    out.fabric.assign(n, Tensor2<dim>::Zero());
-    out.stress_normal.assign(n, Tensor2<dim>::Zero());
-    out.stress_tangential.assign(n, Tensor2<dim>::Zero());
-    out.stiffness_normal.assign(n, Tensor4<dim>());
-    out.stiffness_tangential.assign(n, Tensor4<dim>());
     const double dV = grid.cell_volume();
     std::vector<std::pair<std::size_t, double>> scratch;
 
@@ -164,21 +175,16 @@ CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<
                        scratch);
 
     // Every contact counts (weight 1 or its partners' shares): the box around the whole packing.
+    std::vector<ContactSums<dim>> sums(n);
     const ContactWeights<dim> cw = contact_weights(s, Region<dim>::whole(s), opt);
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
         if (!cw.counted[q]) continue;
         const auto& c = s.contacts[q];
-        const Vec<dim>& nrm = c.normal;
-        const double l2 = c.branch.squaredNorm();
         const bool tangential_stiffness = !(opt.exclude_sliding_from_tangential_stiffness && c.sliding);
         auto add = [&](const Vec<dim>& at, double share, double volume_share) {
             detail::spread(grid, s.domain, kernel, detail::wrapped(s, at), [&](std::size_t x, double w) {
                 const double wv = w / dV;
-                out.fabric[x] += (wv * volume_share) * nrm * nrm.transpose();
-                out.stress_normal[x] += (wv * share * c.normal_force) * c.branch * nrm.transpose();
-                out.stress_tangential[x] += (wv * share) * c.branch * c.tangential_force.transpose();
-                out.stiffness_normal[x].add_outer(wv * share * c.k * l2, nrm, nrm);
-                if (tangential_stiffness) out.stiffness_tangential[x].add_tangential(wv * share * c.kt * l2, nrm);
+                sums[x].add(c, wv * share, wv * volume_share, tangential_stiffness);
             }, scratch);
         };
         const double vi = DimTraits<dim>::particle_volume(s.radius[c.i]);
@@ -189,6 +195,18 @@ CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<
             add(s.position[c.i], c.share_i, vi);
             if (!c.wall) add(s.position[c.j], 1.0 - c.share_i, vj);
         }
+    }
+    out.fabric.reserve(n);
+    out.stress_normal.reserve(n);
+    out.stress_tangential.reserve(n);
+    out.stiffness_normal.reserve(n);
+    out.stiffness_tangential.reserve(n);
+    for (const auto& x : sums) {
+        out.fabric.push_back(x.fabric);
+        out.stress_normal.push_back(x.stress_normal);
+        out.stress_tangential.push_back(x.stress_tangential);
+        out.stiffness_normal.push_back(x.stiffness_normal);
+        out.stiffness_tangential.push_back(x.stiffness_tangential);
     }
     return out;
 }

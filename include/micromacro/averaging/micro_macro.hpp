@@ -15,6 +15,7 @@
 #include <cmath>
 #include <vector>
 
+#include "micromacro/averaging/contact_sums.hpp"
 #include "micromacro/averaging/region.hpp"
 #include "micromacro/averaging/snapshot.hpp"
 #include "micromacro/averaging/tensor.hpp"
@@ -178,23 +179,22 @@ MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region
     out.coordination = counted > 0 ? contact_sum / counted : 0.0;
 
     // Contacts.
+    ContactSums<dim> sums;
     double weight_sum = 0.0, sliding_weight = 0.0;
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
         const auto& c = s.contacts[q];
         const double w = cw.branch[q], w_fabric = cw.volume[q];
         if (w == 0.0 && w_fabric == 0.0) continue;
         ++out.contacts;
-        const Vec<dim>& n = c.normal;
-        out.fabric += (w_fabric / V) * n * n.transpose();
-        out.stress_normal += (w * c.normal_force / V) * c.branch * n.transpose();
-        out.stress_tangential += (w / V) * c.branch * c.tangential_force.transpose();
-        const double l2 = c.branch.squaredNorm();
-        out.stiffness_normal.add_outer(w * c.k * l2 / V, n, n);
-        if (!(opt.exclude_sliding_from_tangential_stiffness && c.sliding))
-            out.stiffness_tangential.add_tangential(w * c.kt * l2 / V, n);
+        sums.add(c, w / V, w_fabric / V, !(opt.exclude_sliding_from_tangential_stiffness && c.sliding));
         weight_sum += w;
         sliding_weight += c.sliding ? w : 0.0;
     }
+    out.fabric = sums.fabric;
+    out.stress_normal = sums.stress_normal;
+    out.stress_tangential = sums.stress_tangential;
+    out.stiffness_normal = sums.stiffness_normal;
+    out.stiffness_tangential = sums.stiffness_tangential;
     out.sliding_fraction = weight_sum > 0 ? sliding_weight / weight_sum : 0.0;
 
     out.contact_number_density = out.fabric.trace();
