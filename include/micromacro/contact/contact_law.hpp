@@ -15,22 +15,14 @@
 
 namespace micromacro {
 
-/// One evaluation of a contact: the force on i is normal.total() n + tangential, and the
-/// tangential part acts at the contact point (its torque on i is (-a_i n) x tangential).
+/// One evaluation of a contact: the force on i is normal.total() n + tangential.force, and the
+/// tangential part acts at the contact point (its torque on i is (-a_i n) x tangential.force).
+/// With energy tracking the law fills tangential.dissipated_* with what the step dissipated.
 template <int dim>
 struct ContactForce {
-    NormalForce normal{0.0, 0.0};            ///< along n; the engine books viscous * n.v dt as dissipated
-    Vec<dim> tangential = Vec<dim>::Zero();  ///< in the tangent plane
-    double dissipated_tangential = 0.0;      ///< by tangential damping this step (filled when tracking energy)
-    double dissipated_sliding = 0.0;         ///< by sliding this step (filled when tracking energy)
-    bool sliding = false;
+    NormalForce normal{0.0, 0.0};  ///< along n; the engine books viscous * n.v dt as dissipated
+    TangentialForce<dim> tangential{};
 };
-
-/// A normal force and a tangential model's force (contact/tangential.hpp) as one contact force.
-template <int dim>
-MICROMACRO_INLINE ContactForce<dim> combined(const NormalForce& normal, const TangentialForce<dim>& t) {
-    return {normal, t.force, t.dissipated_viscous, t.dissipated_sliding, t.sliding};
-}
 
 /// A contact as analysis sees it, without advancing anything: forces, stored elastic energies
 /// and the tangent stiffnesses that the stiffness tensors average (Sec. 3.3).
@@ -121,11 +113,12 @@ struct ContactLaw {
     template <bool track, int dim>
     MICROMACRO_INLINE ContactForce<dim> force(const ContactKinematics<dim>& c, [[maybe_unused]] History<dim>& h) const {
         const NormalForce fn = normal.force(c.overlap, c.normal_velocity);
-        if constexpr (has_tangential)
-            return combined(fn, tangential.template force<dim, track>(c.normal, c.relative_velocity, c.normal_velocity, fn.total(),
-                                                                      c.overlap, c.dt, h));
-        else
+        if constexpr (has_tangential) {
+            return {fn, tangential.template force<dim, track>(c.normal, c.relative_velocity, c.normal_velocity, fn.total(), c.overlap,
+                                                              c.dt, h)};
+        } else {
             return {fn};
+        }
     }
 
     template <int dim>

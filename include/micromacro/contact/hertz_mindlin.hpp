@@ -67,9 +67,8 @@ public:
     MICROMACRO_INLINE ContactForce<dim> force(const ContactKinematics<dim>& c, History<dim>& h) const {
         const Springs s = springs(c);
         const NormalForce fn = s.normal(c.overlap, c.normal_velocity);
-        return combined(fn, friction_.with_stiffness(s.kt, s.gamma_t)
-                                .template force<dim, track>(c.normal, c.relative_velocity, c.normal_velocity, fn.total(), c.overlap,
-                                                            c.dt, h));
+        return {fn, friction_.with_stiffness(s.kt, s.gamma_t)
+                        .template force<dim, track>(c.normal, c.relative_velocity, c.normal_velocity, fn.total(), c.overlap, c.dt, h)};
     }
 
     template <int dim>

@@ -20,29 +20,31 @@ struct ContactResponse {
     double normal_force;
 };
 
-/// One evaluation of `law` on contact `c`; what it dissipates goes to `books` (a local copy in
-/// the pair loop, so the sums stay in registers). `h` is the contact's history; a `smooth`
-/// contact (a frictionless wall) takes the normal part only.
+/// The law's force on contact `c` with history `h`; a `smooth` contact (a frictionless wall)
+/// takes the normal part only.
+template <bool track, int dim, class Law, class History>
+MICROMACRO_INLINE ContactForce<dim> evaluate(const Law& law, const ContactKinematics<dim>& c, History& h, bool smooth) {
+    if constexpr (Law::has_tangential)
+        if (smooth) return {law.normal_force(c)};
+    return law.template force<track>(c, h);
+}
+
+/// One evaluation of `law` on contact `c`, as the loops apply it; what it dissipates goes to
+/// `books` (a local copy in the pair loop, so the sums stay in registers).
 template <bool track, int dim, class Law, class History>
 MICROMACRO_INLINE ContactResponse<dim> respond(const Law& law, const ContactKinematics<dim>& c, History& h, EnergyBooks& books,
                                                bool smooth = false) {
-    ContactForce<dim> f;
-    if constexpr (Law::has_tangential) {
-        if (smooth) f.normal = law.normal_force(c);
-        else f = law.template force<track>(c, h);
-    } else {
-        f = law.template force<track>(c, h);
-    }
+    const ContactForce<dim> f = evaluate<track>(law, c, h, smooth);
     if constexpr (track) books.dissipated_normal -= f.normal.viscous * c.normal_velocity * c.dt;
     ContactResponse<dim> out{f.normal.total() * c.normal, Vec<dim>::Zero(), f.normal.total()};
     if constexpr (Law::has_tangential) {
         if (smooth) return out;
         if constexpr (track) {
-            books.dissipated_tangential += f.dissipated_tangential;
-            books.dissipated_sliding += f.dissipated_sliding;
+            books.dissipated_tangential += f.tangential.dissipated_viscous;
+            books.dissipated_sliding += f.tangential.dissipated_sliding;
         }
-        out.force += f.tangential;
-        out.tangential = f.tangential;
+        out.force += f.tangential.force;
+        out.tangential = f.tangential.force;
     }
     return out;
 }

@@ -173,12 +173,20 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
                 continue;
             }
             const double ri = r[i], rj = r[j], reach = ri + rj;
-            const double dist = distance[k];
-            const V n = separation[k] * inverse_distance[k];
+            // The law's view of the contact, its vectors computed in place (copies of them made
+            // the compiler keep them in memory).
+            ContactKinematics<dim> kinematics;
+            const V& n = kinematics.normal;
+            kinematics.normal = separation[k] * inverse_distance[k];
             const V dv = convert<double>(v[i]) - convert<double>(v[j]);
-            const V vr = contact_point_velocity<rotation>(n, dv, w, i, j, ri, rj);
-            const ContactKinematics<dim> kinematics{{n, reach - dist, n.dot(dv), vr}, ri, rj,
-                                                    double(inverse_mass[i]), double(inverse_mass[j]), dt};
+            kinematics.relative_velocity = contact_point_velocity<rotation>(n, dv, w, i, j, ri, rj);
+            kinematics.overlap = reach - distance[k];
+            kinematics.normal_velocity = n.dot(dv);
+            kinematics.radius_i = ri;
+            kinematics.radius_j = rj;
+            kinematics.inverse_mass_i = inverse_mass[i];
+            kinematics.inverse_mass_j = inverse_mass[j];
+            kinematics.dt = dt;
             [[maybe_unused]] NoHistory none;
             History& h = [&]() -> History& {
                 if constexpr (has_history) return history[c];
