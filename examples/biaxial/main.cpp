@@ -8,7 +8,6 @@
 // output interval of the loading) into --out. Run with --help for every option and its unit.
 #include <unistd.h>
 
-#include <charconv>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
@@ -16,7 +15,6 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
-#include <limits>
 #include <random>
 #include <sstream>
 #include <string>
@@ -26,6 +24,7 @@
 
 #include "../command_line.hpp"
 #include "biaxial.hpp"
+#include "parameters.hpp"
 #include "quality.hpp"
 #ifdef MICROMACRO_HAVE_VTK
 #include <micromacro/io/vtk.hpp>
@@ -33,6 +32,7 @@
 
 namespace fs = std::filesystem;
 using biaxial::Config;
+using biaxial::config_from_json;
 
 namespace {
 
@@ -61,78 +61,6 @@ std::string csv_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.17g", v);
     return buf;
-}
-
-nlohmann::ordered_json parameters(const Config& c) {
-    return {{"dim", c.dim},
-            {"preset", c.preset},
-            {"particles", c.particles},
-            {"radius_min_m", c.radius_min},
-            {"radius_max_m", c.radius_max},
-            {"density_kg_m3", c.density},
-            {"k_N_m", c.k},
-            {"gamma0_kg_s", c.gamma0},
-            {"mu", c.mu},
-            {"mu_prepare", c.mu_prepare},
-            {"kt_ratio", c.kt_ratio},
-            {"gammat_ratio", c.gammat_ratio},
-            {"pressure", c.pressure},
-            {"pressure_unit", c.dim == 2 ? "N/m" : "Pa"},
-            {"period_s", c.period},
-            {"final_strain", c.final_strain},
-            {"relax_s", c.relax},
-            {"dt_fraction", c.dt_fraction},
-            {"seed", c.seed},
-            {"damping", c.damping},
-            {"gamma_b_kg_s", c.gamma_b},
-            {"local_damping", c.local_damping},
-            {"gamma_b_prepare_kg_s", c.gamma_b_prepare},
-            {"gamma_r_kg_m2_s", c.rotational_damping(c.gamma_b)},
-            {"wall_mass_kg", c.wall_mass},
-            {"wall_damping_kg_s", c.wall_damping},
-            {"wall_follow_time_s", c.wall_follow_time},
-            {"prepare_speed_m_s", c.prepare_speed},
-            {"prepare_kinetic_ratio", c.prepare_kinetic_ratio},
-            {"output_interval_s", c.output_interval},
-            {"box_factor", c.box_factor},
-            {"inner_margin", c.inner_margin},
-            {"wall_friction", c.wall_friction}};
-}
-
-Config config_from_json(const nlohmann::ordered_json& j, Config c) {
-    const auto& p = j.at("parameters");
-    c.dim = p.at("dim");
-    c.preset = p.at("preset");
-    c.particles = p.at("particles");
-    c.radius_min = p.at("radius_min_m");
-    c.radius_max = p.at("radius_max_m");
-    c.density = p.at("density_kg_m3");
-    c.k = p.at("k_N_m");
-    c.gamma0 = p.at("gamma0_kg_s");
-    c.mu = p.at("mu");
-    c.mu_prepare = p.at("mu_prepare");
-    c.kt_ratio = p.at("kt_ratio");
-    c.gammat_ratio = p.at("gammat_ratio");
-    c.pressure = p.at("pressure");
-    c.period = p.at("period_s");
-    c.final_strain = p.at("final_strain");
-    c.relax = p.at("relax_s");
-    c.dt_fraction = p.at("dt_fraction");
-    c.seed = p.at("seed");
-    c.damping = p.at("damping");
-    c.gamma_b = p.at("gamma_b_kg_s");
-    c.local_damping = p.at("local_damping");
-    c.gamma_b_prepare = p.at("gamma_b_prepare_kg_s");
-    c.wall_mass = p.at("wall_mass_kg");
-    c.wall_damping = p.at("wall_damping_kg_s");
-    c.wall_follow_time = p.at("wall_follow_time_s");
-    c.prepare_speed = p.at("prepare_speed_m_s");
-    c.inner_margin = p.value("inner_margin", 0.1);
-    c.prepare_kinetic_ratio = p.at("prepare_kinetic_ratio");
-    c.output_interval = p.at("output_interval_s");
-    c.box_factor = p.at("box_factor");
-    c.wall_friction = p.at("wall_friction");
-    return c;
 }
 
 /// What a run writes into its folder. A folder that holds any of these holds a run.
@@ -302,7 +230,7 @@ int run(const Config& c, const Plan& plan) {
     };
     auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
         nlohmann::ordered_json j;
-        j["parameters"] = parameters(c);
+        j["parameters"] = biaxial::parameters_json(c);
         j["plan"] = plan_json(plan);
         j["bookkeeping"] = exp.bookkeeping();
         j["rows"] = rows;
@@ -406,7 +334,7 @@ int run(const Config& c, const Plan& plan) {
     j["program"] = "micromacro biaxial";
     j["version"] = "0.1.0";
     j["run_id"] = plan.run_id;
-    j["parameters"] = parameters(c);
+    j["parameters"] = biaxial::parameters_json(c);
     j["derived"] = {{"contact_duration_s", tc},
                     {"time_step_s", sim.time_step()},
                     {"stable_time_step_s", sim.stable_time_step()},
@@ -478,30 +406,9 @@ int main(int argc, char** argv) {
         ->excludes(out_option)
         ->check(CLI::ExistingDirectory);
     // Options that override the preset: collected first, applied after it.
-    auto* particles = app.add_option("--particles", "number of particles");
-    auto* pressure = app.add_option("--pressure", "side pressure p (N/m in 2D, Pa in 3D; default 20 and 1e4)");
-    auto* mu = app.add_option("--mu", "friction coefficient mu_s = mu_d (default 0.5)");
-    auto* mup = app.add_option("--mu-prepare", "friction while preparing (default 0.1: volume fraction 0.83; 0.5 leaves 0.80)");
-    auto* kt = app.add_option("--kt-ratio", "k_t / k (default 0.2)");
-    auto* period = app.add_option("--period", "T of Eq. 17 in s (loading lasts T/2)");
-    auto* strain = app.add_option("--final-strain", "eps_zz at the end of the motion (default 0.2)");
-    auto* relax = app.add_option("--relax", "relaxation after T/2 in s");
-    auto* dtf = app.add_option("--dt-fraction", "dt = t_c / this, t_c of two mean particles (default 50)");
-    auto* seed = app.add_option("--seed", "random seed of the initial placement (default 1)");
-    auto* damping = app.add_option("--damping", "damping while loading: affine (default: Eq. 30 against the walls' mean flow), lab (Eq. 30 as printed) or local (Cundall's)");
-    auto* gb = app.add_option("--gamma-b", "lab or affine damping while loading in kg/s (default 5e-2 affine, 1e-4 lab as in the paper)");
-    auto* local = app.add_option("--local-damping", "alpha of the local damping while loading (default 0.2)");
-    auto* gbp = app.add_option("--gamma-b-prepare", "background damping while preparing in kg/s (default 1e-3)");
-    auto* ps = app.add_option("--prepare-speed", "wall speed while preparing in m/s: wall damping = p A / speed (default 0: 5 m/s, in proportion to p/k below p/k = 1e-5)");
-    auto* mw = app.add_option("--wall-mass", "m_w of Eq. 18 in kg (default 1e-4)");
-    auto* gw = app.add_option("--wall-damping", "gamma_w of Eq. 18 in kg/s while loading (default 0)");
-    auto* gwt = app.add_option("--wall-follow-time", "the side wall's damper follows its velocity with this time constant in s "
-                                                     "(0: Eq. 18, anchored; see walls.hpp)");
-    auto* interval = app.add_option("--output-interval", "time between rows of timeseries.csv in s");
-    auto* margin = app.add_option("--inner-margin", "averaging box: fraction of each side left out next to each wall (default 0.1, the paper's)");
+    const std::vector<CLI::Option*> given = biaxial::add_options(app);
     bool no_pictures = false;
     app.add_flag("--no-pictures", no_pictures, "skip the snapshots and plots at the end");
-    app.add_flag("--wall-friction", c.wall_friction, "walls use the particles' friction (default: smooth walls)");
     app.add_flag("--quiet", quiet, "no progress line, only the final summary");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
@@ -539,58 +446,21 @@ int main(int argc, char** argv) {
             return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
         }
         biaxial::apply_preset(c, preset);
-        auto set = [](CLI::Option* o, auto& field) {
-            if (o->count()) field = o->as<std::decay_t<decltype(field)>>();
-        };
-        // Counts and seeds are whole numbers >= 0 as typed: "-5" or "1e19" is refused, not wrapped.
-        auto set_whole = [](CLI::Option* o, auto& field, unsigned long long least) {
-            if (!o->count()) return;
-            const std::string text = o->as<std::string>();
-            unsigned long long v = 0;
-            const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
-            if (error != std::errc() || end != text.data() + text.size() || v < least ||
-                v > std::numeric_limits<std::decay_t<decltype(field)>>::max())
-                micromacro::throw_input_error(o->get_name(), " '", text, "' is not a whole number from ", least, " to ",
-                                                      std::numeric_limits<std::decay_t<decltype(field)>>::max());
-            field = static_cast<std::decay_t<decltype(field)>>(v);
-        };
-        set_whole(particles, c.particles, 0);
-        set(pressure, c.pressure);
-        set(mu, c.mu);
-        set(mup, c.mu_prepare);
-        set(kt, c.kt_ratio);
-        set(period, c.period);
-        set(strain, c.final_strain);
-        set(relax, c.relax);
-        set(dtf, c.dt_fraction);
-        set_whole(seed, c.seed, 0);
-        set(damping, c.damping);
-        if (c.damping == "lab") c.gamma_b = 1e-4;  // Eq. 30's weak damping unless --gamma-b says otherwise: strong lab damping drags the flow
-        set(gb, c.gamma_b);
-        set(local, c.local_damping);
-        set(gbp, c.gamma_b_prepare);
-        set(ps, c.prepare_speed);
-        set(mw, c.wall_mass);
-        set(gw, c.wall_damping);
-        set(gwt, c.wall_follow_time);
-        set(interval, c.output_interval);
-        set(margin, c.inner_margin);
+        biaxial::apply_options(given, c);
+        // Eq. 30's weak damping unless --gamma-b says otherwise: strong lab damping drags the flow.
+        if (c.damping == "lab" && !app.get_option("--gamma-b")->count()) c.gamma_b = 1e-4;
         if (!plan.from_prepared.empty()) {
             // The packing, and so everything that made it, comes from the prepared state: options
             // of the preparation would be recorded in run.json without having acted.
-            for (const char* name : {"--seed", "--mu-prepare", "--gamma-b-prepare", "--prepare-speed", "--particles"})
-                if (app.get_option(name)->count())
-                    micromacro::throw_input_error(name, " cannot be given with --from-prepared: the prepared state "
-                                                          "holds the packing it made (run.json records its value); drop ", name);
+            for (const std::string& name : biaxial::preparation_options_given(given))
+                micromacro::throw_input_error(name, " cannot be given with --from-prepared: the prepared state "
+                                                    "holds the packing it made (run.json records its value); drop ", name);
             const auto prepared = config_from_json(
                 nlohmann::ordered_json::parse(micromacro::io::state_text(plan.from_prepared, "prepared")), c);
             if (prepared.dim != c.dim)
                 micromacro::throw_input_error(plan.from_prepared, " holds a different scene (dim=", prepared.dim,
                                                       "), this run asks for --dim ", c.dim);
-            c.particles = prepared.particles, c.seed = prepared.seed, c.mu_prepare = prepared.mu_prepare;
-            c.gamma_b_prepare = prepared.gamma_b_prepare, c.prepare_speed = prepared.prepare_speed;
-            c.radius_min = prepared.radius_min, c.radius_max = prepared.radius_max, c.box_factor = prepared.box_factor;
-            c.prepare_kinetic_ratio = prepared.prepare_kinetic_ratio;
+            biaxial::take_preparation(prepared, c);
         }
         biaxial::validate(c);
         micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");

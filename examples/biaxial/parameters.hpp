@@ -1,0 +1,161 @@
+#pragma once
+// Every parameter of the biaxial test written once: its command-line option (if it has one), its
+// key in run.json and in saved states, its help text, and whether it made the packing (then a
+// prepared state supplies it). The command line, run.json and the states are all made from this
+// table.
+#include <charconv>
+#include <cstddef>
+#include <limits>
+#include <string>
+#include <type_traits>
+#include <utility>
+#include <variant>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include "biaxial.hpp"
+
+namespace biaxial {
+
+struct Parameter {
+    const char* option;  ///< "--mu", or nullptr: set by the presets and saved, not an option
+    const char* key;     ///< in run.json's "parameters"
+    const char* help;
+    std::variant<double Config::*, std::size_t Config::*, unsigned long long Config::*, int Config::*, std::string Config::*,
+                 bool Config::*>
+        field;
+    bool preparation = false;  ///< made the packing: a prepared state supplies it
+};
+
+/// In run.json's order. --dim and --preset choose the presets and are handled apart.
+inline const std::vector<Parameter>& parameter_table() {
+    using C = Config;
+    static const std::vector<Parameter> table{
+        {nullptr, "dim", "", &C::dim},
+        {nullptr, "preset", "", &C::preset},
+        {"--particles", "particles", "number of particles", &C::particles, true},
+        {nullptr, "radius_min_m", "", &C::radius_min, true},
+        {nullptr, "radius_max_m", "", &C::radius_max, true},
+        {nullptr, "density_kg_m3", "", &C::density},
+        {nullptr, "k_N_m", "", &C::k},
+        {nullptr, "gamma0_kg_s", "", &C::gamma0},
+        {"--mu", "mu", "friction coefficient mu_s = mu_d (default 0.5)", &C::mu},
+        {"--mu-prepare", "mu_prepare", "friction while preparing (default 0.1: volume fraction 0.83; 0.5 leaves 0.80)",
+         &C::mu_prepare, true},
+        {"--kt-ratio", "kt_ratio", "k_t / k (default 0.2)", &C::kt_ratio},
+        {nullptr, "gammat_ratio", "", &C::gammat_ratio},
+        {"--pressure", "pressure", "side pressure p (N/m in 2D, Pa in 3D; default 20 and 1e4)", &C::pressure},
+        {"--period", "period_s", "T of Eq. 17 in s (loading lasts T/2)", &C::period},
+        {"--final-strain", "final_strain", "eps_zz at the end of the motion (default 0.2)", &C::final_strain},
+        {"--relax", "relax_s", "relaxation after T/2 in s", &C::relax},
+        {"--dt-fraction", "dt_fraction", "dt = t_c / this, t_c of two mean particles (default 50)", &C::dt_fraction},
+        {"--seed", "seed", "random seed of the initial placement (default 1)", &C::seed, true},
+        {"--damping", "damping",
+         "damping while loading: affine (default: Eq. 30 against the walls' mean flow), lab (Eq. 30 as printed) or local "
+         "(Cundall's)",
+         &C::damping},
+        {"--gamma-b", "gamma_b_kg_s", "lab or affine damping while loading in kg/s (default 5e-2 affine, 1e-4 lab as in the paper)",
+         &C::gamma_b},
+        {"--local-damping", "local_damping", "alpha of the local damping while loading (default 0.2)", &C::local_damping},
+        {"--gamma-b-prepare", "gamma_b_prepare_kg_s", "background damping while preparing in kg/s (default 1e-3)",
+         &C::gamma_b_prepare, true},
+        {"--wall-mass", "wall_mass_kg", "m_w of Eq. 18 in kg (default 1e-4)", &C::wall_mass},
+        {"--wall-damping", "wall_damping_kg_s", "gamma_w of Eq. 18 in kg/s while loading (default 0)", &C::wall_damping},
+        {"--wall-follow-time", "wall_follow_time_s",
+         "the side wall's damper follows its velocity with this time constant in s (0: Eq. 18, anchored; see walls.hpp)",
+         &C::wall_follow_time},
+        {"--prepare-speed", "prepare_speed_m_s",
+         "wall speed while preparing in m/s: wall damping = p A / speed (default 0: 5 m/s, in proportion to p/k below "
+         "p/k = 1e-5)",
+         &C::prepare_speed, true},
+        {nullptr, "prepare_kinetic_ratio", "", &C::prepare_kinetic_ratio, true},
+        {"--output-interval", "output_interval_s", "time between rows of timeseries.csv in s", &C::output_interval},
+        {nullptr, "box_factor", "", &C::box_factor, true},
+        {"--inner-margin", "inner_margin",
+         "averaging box: fraction of each side left out next to each wall (default 0.1, the paper's)", &C::inner_margin},
+        {"--wall-friction", "wall_friction", "walls use the particles' friction (default: smooth walls)", &C::wall_friction},
+    };
+    return table;
+}
+
+/// run.json's "parameters": the table, then two derived figures.
+inline nlohmann::ordered_json parameters_json(const Config& c) {
+    nlohmann::ordered_json j;
+    for (const Parameter& p : parameter_table()) std::visit([&](auto field) { j[p.key] = c.*field; }, p.field);
+    j["pressure_unit"] = c.dim == 2 ? "N/m" : "Pa";
+    j["gamma_r_kg_m2_s"] = c.rotational_damping(c.gamma_b);
+    return j;
+}
+
+/// The configuration saved in run.json or a state (`j` holds "parameters"), over `c`.
+inline Config config_from_json(const nlohmann::ordered_json& j, Config c) {
+    const auto& saved = j.at("parameters");
+    for (const Parameter& p : parameter_table())
+        std::visit(
+            [&](auto field) {
+                using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
+                if (std::string(p.key) == "inner_margin" && !saved.contains(p.key)) return;  // older files: the default
+                c.*field = saved.at(p.key).template get<T>();
+            },
+            p.field);
+    return c;
+}
+
+/// The table's options on `app`, unbound: read after the preset is applied (apply_options).
+inline std::vector<CLI::Option*> add_options(CLI::App& app) {
+    std::vector<CLI::Option*> options;
+    for (const Parameter& p : parameter_table()) {
+        CLI::Option* o = nullptr;
+        if (p.option)
+            o = std::holds_alternative<bool Config::*>(p.field) ? app.add_flag(p.option, p.help) : app.add_option(p.option, p.help);
+        options.push_back(o);
+    }
+    return options;
+}
+
+/// The options given, over the preset's values in `c`. Counts and seeds are whole numbers >= 0
+/// as typed: "-5" or "1e19" is refused, not wrapped.
+inline void apply_options(const std::vector<CLI::Option*>& options, Config& c) {
+    const auto& table = parameter_table();
+    for (std::size_t k = 0; k < table.size(); ++k) {
+        const CLI::Option* o = options[k];
+        if (!o || !o->count()) continue;
+        std::visit(
+            [&](auto field) {
+                using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
+                if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, unsigned long long>) {
+                    const std::string text = o->as<std::string>();
+                    unsigned long long v = 0;
+                    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+                    if (error != std::errc() || end != text.data() + text.size() || v > std::numeric_limits<T>::max())
+                        micromacro::throw_input_error(o->get_name(), " '", text, "' is not a whole number from 0 to ",
+                                                      std::numeric_limits<T>::max());
+                    c.*field = static_cast<T>(v);
+                } else if constexpr (std::is_same_v<T, bool>) {
+                    c.*field = true;
+                } else {
+                    c.*field = o->as<T>();
+                }
+            },
+            table[k].field);
+    }
+}
+
+/// The options of the table that made the packing and were given (refused with --from-prepared).
+inline std::vector<std::string> preparation_options_given(const std::vector<CLI::Option*>& options) {
+    std::vector<std::string> given;
+    const auto& table = parameter_table();
+    for (std::size_t k = 0; k < table.size(); ++k)
+        if (table[k].preparation && options[k] && options[k]->count()) given.push_back(options[k]->get_name());
+    return given;
+}
+
+/// What a prepared state fixes: the table's preparation parameters, from `prepared` into `c`.
+inline void take_preparation(const Config& prepared, Config& c) {
+    for (const Parameter& p : parameter_table())
+        if (p.preparation) std::visit([&](auto field) { c.*field = prepared.*field; }, p.field);
+}
+
+}  // namespace biaxial
