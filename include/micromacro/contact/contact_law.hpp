@@ -4,7 +4,6 @@
 // shape (e.g. HertzMindlin, or a user's own) satisfies the concept directly; the engine never
 // looks inside a law. The law's flags (`has_tangential`, `has_history`, `needs_rotation`) decide
 // at compile time what a scene stores and updates.
-#include <algorithm>
 #include <concepts>
 #include <type_traits>
 
