@@ -29,18 +29,15 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         const double a = r[i], inv = inverse_mass[i];
         const StiffnessBound b = law_.stiffness_bound(n > 1 ? 0.5 * a : a, 1.0 / (partners * inv));
         limit = std::min(limit, normal_time_step_limit<Integrator>(b.normal_stiffness, b.normal_damping, partners * inv));
-        if constexpr (has_tangential) {
-            double mobility = inv;  // of the contact point: 1/m + a^2/I
-            if constexpr (rotation) mobility += a * a * double(particles_.template get<field::InverseInertia>()[i]);
+        if constexpr (has_tangential)
             limit = std::min(limit, tangential_time_step_limit<Integrator>(b.tangential_stiffness, b.tangential_damping,
-                                                                           partners * mobility));
-        }
-        if constexpr (has_walls)  // a stress-controlled wall on one contact
+                                                                           partners * particles_.contact_point_mobility(i)));
+        if constexpr (has_walls) {  // a stress-controlled wall on one contact
+            const double on_wall = law_.stiffness_bound(a, 1.0 / inv).normal_stiffness;
             for (const auto& w : walls_)
-                if (const auto* s = std::get_if<StressControlled>(&w.motion)) {
-                    const StiffnessBound on_wall = law_.stiffness_bound(a, 1.0 / inv);
-                    limit = std::min(limit, stress_wall_time_step_limit(on_wall.normal_stiffness, s->mass, s->damping, inv));
-                }
+                if (const auto* s = std::get_if<StressControlled>(&w.motion))
+                    limit = std::min(limit, stress_wall_time_step_limit(on_wall, s->mass, s->damping, inv));
+        }
     }
     return limit;
 }

@@ -66,25 +66,15 @@ public:
     }
     bool empty() const { return position_.empty(); }
 
-    /// The largest 1/m, the lightest particle's (0 without particles).
-    double largest_inverse_mass() const {
-        double largest = 0.0;
-        for (Real inv : inverse_mass_) largest = std::max(largest, double(inv));
-        return largest;
-    }
-    /// The largest tangential mobility of a contact point on a particle's surface: 1/m + a^2/I
-    /// with rotation, 1/m without (0 without particles).
-    double largest_contact_point_mobility() const {
-        double largest = 0.0;
-        for (std::size_t i = 0; i < size(); ++i) {
-            double mobility = inverse_mass_[i];
-            if constexpr (with_rotation) {
-                const double a = radius_[i];
-                mobility += a * a * double(inverse_inertia_[i]);
-            }
-            largest = std::max(largest, mobility);
+    /// The tangential mobility of a contact point on particle i's surface: 1/m + a^2/I with
+    /// rotation, 1/m without.
+    double contact_point_mobility(std::size_t i) const {
+        double mobility = inverse_mass_[i];
+        if constexpr (with_rotation) {
+            const double a = radius_[i];
+            mobility += a * a * double(inverse_inertia_[i]);
         }
-        return largest;
+        return mobility;
     }
 
     /// sum 1/2 m v^2.
