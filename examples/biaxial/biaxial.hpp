@@ -15,6 +15,7 @@
 #include <functional>
 #include <random>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 #include <micromacro/micromacro.hpp>
@@ -29,8 +30,12 @@ struct Config {
     std::size_t particles = 300;
     double radius_min = 0.5e-3, radius_max = 1.5e-3;  // m
     double density = 2000.0;                           // kg/m^3 (sphere masses, also in 2D)
-    double k = 1e5, gamma0 = 0.1;                      // N/m, kg/s
+    std::string law = "linear";                        // linear (Eq. 20-29) or hertz-mindlin
+    double k = 1e5, gamma0 = 0.1;                      // N/m, kg/s (linear)
     double mu = 0.5, kt_ratio = 0.2, gammat_ratio = 0.2;
+    // hertz-mindlin: E and nu of the particles (E = 1e10 Pa gives the linear law's overlap at the
+    // presets' pressures), and the restitution (the linear law's is 0.78 between mean particles)
+    double young = 1e10, poisson = 0.25, restitution = 0.8;
     double pressure = 20.0;        // N/m in 2D, Pa in 3D
     double period = 0.1;           // T of Eq. 17 (s)
     double final_strain = 0.2;     // eps_zz at the end of the motion
@@ -57,13 +62,42 @@ struct Config {
     // Derived.
     double mean_radius() const { return 0.5 * (radius_min + radius_max); }
     double mean_mass() const { return mm::sphere_mass(density, mean_radius()); }
-    double contact_duration() const { return mm::contact_duration(k, gamma0, 0.5 * mean_mass()); }
+    bool hertz() const { return law == "hertz-mindlin"; }
+    /// The overlap of two mean particles pressed together by p d^(dim-1), d the mean diameter:
+    /// the overlap the side pressure gives, up to a factor of order one.
+    double reference_overlap() const {
+        const double force = pressure * std::pow(2.0 * mean_radius(), dim - 1);
+        if (!hertz()) return force / k;
+        const double R = 0.5 * mean_radius();  // R* of two mean particles
+        const double kn = 4.0 / 3.0 * young / (2.0 * (1.0 - poisson * poisson)) * std::sqrt(R);  // f_n = kn delta^(3/2)
+        return std::pow(force / kn, 2.0 / 3.0);
+    }
+    /// Stiffnesses and dampings between two mean particles: the linear law's, or Hertz-Mindlin's
+    /// tangent ones at the reference overlap (those of the packing's small oscillations).
+    mm::StiffnessBound contact_springs() const {
+        if (!hertz()) return {k, gamma0, kt_ratio * k, gammat_ratio * gamma0};
+        const double R = 0.5 * mean_radius();
+        return mm::HertzMindlin(young, poisson, restitution, 0.0, reference_overlap() / R).stiffness_bound(R, 0.5 * mean_mass());
+    }
+    /// t_c of Eq. 22 for two mean particles, with Hertz-Mindlin's tangent stiffness and damping
+    /// at the reference overlap (its collisions there last about as long).
+    double contact_duration() const {
+        const mm::StiffnessBound s = contact_springs();
+        return mm::contact_duration(s.normal_stiffness, s.normal_damping, 0.5 * mean_mass());
+    }
+    double restitution_coefficient() const {
+        return hertz() ? restitution : mm::restitution(k, gamma0, 0.5 * mean_mass());
+    }
     double time_step() const { return contact_duration() / dt_fraction; }
     double rotational_damping(double gamma) const { return 0.4 * gamma * mean_radius() * mean_radius(); }
     /// p / k in 2D (p in N/m), p d / k in 3D (p in Pa, d the mean diameter): the overlap over the
     /// radius, up to a factor. After preparation the largest overlap of 60 particles is 8-11 p/k of
     /// the smaller radius at p/k = 1e-2 and up to 36 p/k below (tests/tools/biaxial_pressures.cpp).
-    double pressure_over_stiffness() const { return dim == 2 ? pressure / k : pressure * 2 * mean_radius() / k; }
+    /// With Hertz-Mindlin, the reference overlap over the mean diameter (which it is for the linear law).
+    double pressure_over_stiffness() const {
+        if (hertz()) return reference_overlap() / (2.0 * mean_radius());
+        return dim == 2 ? pressure / k : pressure * 2 * mean_radius() / k;
+    }
     /// The side of the prepared box, expected from the particles' volume at the dense packing's
     /// volume fraction (0.84 of disks, 0.64 of spheres).
     double expected_side() const {
@@ -113,11 +147,27 @@ inline void validate(const Config& c) {
     if (c.dim != 2 && c.dim != 3) throw_input_error("--dim ", c.dim, " is invalid; use 2 or 3");
     if (c.particles < 2) throw_input_error("--particles ", c.particles, " is too few; use at least 2");
     mm::require_positive(c.pressure, "--pressure", "the side pressure p must be > 0 (N/m in 2D, Pa in 3D)");
-    if (c.pressure_over_stiffness() > 1e-2)
+    if (c.law != "linear" && !c.hertz())
+        throw_input_error("--law '", c.law, "' is unknown; use linear (Eq. 20-29) or hertz-mindlin");
+    if (c.hertz()) {  // before anything derived from the law
+        mm::require_positive(c.young, "--young", "give Young's modulus E of the particles in Pa");
+        if (!(c.poisson > -1.0 && c.poisson < 0.5))
+            throw_input_error("--poisson ", c.poisson, " is outside (-1, 0.5); e.g. 0.25 for glass");
+        if (!(c.restitution > 0.0 && c.restitution <= 1.0))
+            throw_input_error("--restitution ", c.restitution, " is outside (0, 1]; use 1 for elastic contacts");
+    }
+    if (c.pressure_over_stiffness() > 1e-2) {
+        if (c.hertz())
+            throw_input_error("--pressure ", c.pressure, " with --young ", c.young, " Pa presses two mean particles ",
+                              c.pressure_over_stiffness(), " of their diameter into each other, above 1e-2: the largest "
+                              "overlaps would exceed 10-20% of a radius, beyond the small overlaps of Hertz's law; use --pressure <= ",
+                              c.pressure * std::pow(1e-2 / c.pressure_over_stiffness(), 1.5), " or --young >= ",
+                              c.young * std::pow(c.pressure_over_stiffness() / 1e-2, 1.5));
         throw_input_error("--pressure ", c.pressure, " gives p/k = ", c.pressure_over_stiffness(), (c.dim == 3 ? " (p d / k in 3D)" : ""),
                           ", above 1e-2: the largest overlaps would exceed 10-20% of a radius (they reach 8-11 p/k "
                           "at 1e-2), beyond the small overlaps the linear contact law assumes; use --pressure <= ",
                           1e-2 * c.pressure / c.pressure_over_stiffness());
+    }
     if (!(c.final_strain > 0.0 && c.final_strain < 1.0))
         throw_input_error("--final-strain ", c.final_strain, " is invalid; the strain eps_zz = 1 - z/z0 must be in (0, 1)");
     mm::require_positive(c.period, "--period", "give T of Eq. 17 in s");
@@ -156,22 +206,30 @@ inline void validate(const Config& c) {
                               "velocity per time step (mass ", m_min, " kg, dt = ", dt, " s), 1 or more: the drag overshoots; use ",
                               name, " < ", 0.5 * m_min / dt, " (the defaults are 5e-2 and 1e-3)");
     mm::require_positive(c.wall_mass, "--wall-mass", "give m_w of Eq. 18 in kg");
+    // The stiffnesses of the checks below: the linear law's, or Hertz-Mindlin's at the reference
+    // overlap (the engine checks its own bound at the law's largest overlap when it prepares).
+    const mm::StiffnessBound springs = c.contact_springs();
     {  // the controlled wall on one particle is an oscillator of sqrt(k (1/m_w + 1/m)) (see stable_time_step)
-        const double omega = std::sqrt(c.k * (1.0 / c.wall_mass + 1.0 / m_min));
+        const double k = springs.normal_stiffness, omega = std::sqrt(k * (1.0 / c.wall_mass + 1.0 / m_min));
         if (omega * dt >= 2.0)
             throw_input_error("--wall-mass ", c.wall_mass, " kg is too light for dt = ", dt, " s: the wall on a contact of "
                               "stiffness k oscillates at omega dt = ", omega * dt, ", above the stable 2; use --wall-mass >= ",
-                              1.0 / (1.0 / (c.k * dt * dt) - 1.0 / m_min), " (the default is 1e-4)");
+                              1.0 / (1.0 / (k * dt * dt) - 1.0 / m_min), " (the default is 1e-4)");
     }
     {  // the tangential spring between the two lightest particles, turning (as the engine's stable_time_step)
         const double mobility = 2.0 * 3.5 / m_min;  // 1/m + a^2/I per particle, I = 2/5 m a^2
         const double limit = mm::tangential_time_step_limit<mm::VelocityVerlet>(
-            mm::CundallStrack(c.kt_ratio * c.k, c.gammat_ratio * c.gamma0, 0.0), mobility);
-        if (dt > limit)
+            mm::CundallStrack(springs.tangential_stiffness, springs.tangential_damping, 0.0), mobility);
+        if (dt > limit) {
+            if (c.hertz())  // Mindlin's k_t / k_n is 2 (1 - nu) / (2 - nu): only a smaller step helps
+                throw_input_error("--dt-fraction ", c.dt_fraction, " makes dt = ", dt, " s, above the tangential spring's "
+                                  "stable ", limit, " s between the two lightest particles; use --dt-fraction >= ",
+                                  c.dt_fraction * dt / limit);
             throw_input_error("--kt-ratio ", c.kt_ratio, " makes the tangential spring too stiff for dt = ", dt,
                               " s: between the two lightest particles it is stable up to dt = ", limit, " s; use --kt-ratio <= ",
                               c.kt_ratio * (limit / dt) * (limit / dt), " or --dt-fraction >= ", c.dt_fraction * dt / limit,
                               " (the paper's k_t / k is 0.2)");
+        }
     }
     {  // a wall so heavy that p A cannot move it across the box within the preparation's time
         const double L = c.box_factor * c.expected_side(), area = std::pow(L, c.dim - 1);
@@ -220,10 +278,12 @@ struct Row {
 
 /// `Integrator` and the storage precision `Real` are the choices the speed-accuracy table
 /// compares; the biaxial program uses the defaults. A float run accepts its coarse positions.
-template <int dim, class Integrator = mm::VelocityVerlet, class Real = double>
+/// `Law` is the linear law of Eq. 20-29 (mm::FrictionalLinear, Config::law "linear") or
+/// mm::HertzMindlin ("hertz-mindlin"); the program chooses it from the configuration.
+template <int dim, class Integrator = mm::VelocityVerlet, class Real = double, class Law = mm::FrictionalLinear>
 class Experiment {
 public:
-    using Law = mm::FrictionalLinear;
+    static_assert(std::is_same_v<Law, mm::FrictionalLinear> || std::is_same_v<Law, mm::HertzMindlin>);
     // The damping policies a run may choose; those it does not use stay at zero and cost no pass.
     using Sim = mm::BasicSimulation<dim, Real, Law, mm::Walls<dim>, Integrator, mm::LinkedCells, mm::BackgroundDamping,
                                     mm::AffineDamping, mm::LocalDamping>;
@@ -231,7 +291,7 @@ public:
     static constexpr int up = dim - 1;  // the loaded axis (the paper's z, index 2)
 
     explicit Experiment(const Config& c)
-        : c_(c), sim_(make_law(c, c.mu), {}, {}, {}, {}, mm::BackgroundDamping(0.0, 0.0), mm::AffineDamping(0.0, 0.0),
+        : c_(checked_law(c)), sim_(make_law(c, c.mu), {}, {}, {}, {}, mm::BackgroundDamping(0.0, 0.0), mm::AffineDamping(0.0, 0.0),
                       mm::LocalDamping(0.0)) {
         if constexpr (std::is_same_v<Real, float>) sim_.allow_coarse_positions(true);
     }
@@ -270,7 +330,7 @@ public:
         }
         sim_.template body_force<mm::BackgroundDamping>() =
             mm::BackgroundDamping(c_.gamma_b_prepare, c_.rotational_damping(c_.gamma_b_prepare));
-        sim_.law().tangential = make_law(c_, c_.mu_prepare).tangential;
+        sim_.law() = make_law(c_, c_.mu_prepare);
         sim_.set_time_step(c_.time_step());
         sim_.sort_spatially();  // placed in random order; neighbours close in memory run faster
         sim_.prepare();
@@ -325,7 +385,7 @@ public:
         sim_.template body_force<mm::BackgroundDamping>() = c_.damping == "lab" ? mm::BackgroundDamping(gamma, gamma_r) : mm::BackgroundDamping();
         sim_.template body_force<mm::AffineDamping>() = c_.damping == "affine" ? mm::AffineDamping(gamma, gamma_r) : mm::AffineDamping();
         sim_.template body_force<mm::LocalDamping>() = mm::LocalDamping(c_.damping == "local" ? c_.local_damping : 0.0);
-        sim_.law().tangential = make_law(c_, c_.mu).tangential;
+        sim_.law() = make_law(c_, c_.mu);
         load_start_ = sim_.time();
     }
 
@@ -445,7 +505,15 @@ public:
 
 private:
     static Law make_law(const Config& c, double mu) {
-        return Law{mm::LinearSpringDashpot(c.k, c.gamma0), mm::CundallStrack(c.kt_ratio * c.k, c.gammat_ratio * c.gamma0, mu)};
+        if constexpr (std::is_same_v<Law, mm::HertzMindlin>)
+            return mm::HertzMindlin(c.young, c.poisson, c.restitution, mu);
+        else
+            return Law{mm::LinearSpringDashpot(c.k, c.gamma0), mm::CundallStrack(c.kt_ratio * c.k, c.gammat_ratio * c.gamma0, mu)};
+    }
+    static const Config& checked_law(const Config& c) {
+        if (c.hertz() != std::is_same_v<Law, mm::HertzMindlin>)
+            mm::throw_input_error("a ", c.law, " configuration given to an experiment built for the other contact law");
+        return c;
     }
 
     mm::WallMotion prepare_motion(double L) const {

@@ -184,13 +184,13 @@ void plan_from_json(const nlohmann::ordered_json& j, Plan& p) {
     p.threads = j.at("threads");
 }
 
-template <int dim>
+template <int dim, class Law>
 int run(const Config& c, const Plan& plan) {
     const bool terminal = !plan.quiet && isatty(STDOUT_FILENO);
     const auto wall_start = std::chrono::steady_clock::now();
     const std::string started = now_iso();
     const fs::path& out = plan.out;
-    biaxial::Experiment<dim> exp(c);
+    biaxial::Experiment<dim, micromacro::VelocityVerlet, double, Law> exp(c);
     auto& sim = exp.simulation();
     sim.set_threads(plan.threads);
     const double n = static_cast<double>(c.particles);
@@ -338,11 +338,12 @@ int run(const Config& c, const Plan& plan) {
     j["derived"] = {{"contact_duration_s", tc},
                     {"time_step_s", sim.time_step()},
                     {"stable_time_step_s", sim.stable_time_step()},
-                    {"restitution", micromacro::restitution(c.k, c.gamma0, 0.5 * c.mean_mass())},
+                    {"restitution", c.restitution_coefficient()},
+                    {"reference_overlap_m", c.reference_overlap()},
                     {"peak_strain_rate_1_s", peak_rate},
                     {"inertial_number_at_peak_rate", inertial},
                     {"background_drag_over_pL_at_peak_rate", background_drag},
-                    {"wall_oscillation_time_s", 2.0 * M_PI * std::sqrt(c.wall_mass / c.k)},
+                    {"wall_oscillation_time_s", 2.0 * M_PI * std::sqrt(c.wall_mass / c.contact_springs().normal_stiffness)},
                     {"wall_damping_time_s", c.wall_damping > 0 ? 2.0 * c.wall_mass / c.wall_damping : 0.0},
                     {"box_after_preparation_m", box},
                     {"final_eps_zz", exp.eps_zz()}};
@@ -375,6 +376,12 @@ int run(const Config& c, const Plan& plan) {
     std::printf("biaxial %dD: %zu particles, %zu steps in %.1f s (%.3g particle-steps/s); results in %s\n", dim,
                 c.particles, sim.steps_done() - steps_before, seconds, pps, out.string().c_str());
     return 0;
+}
+
+/// The run in the configuration's dimension and with its contact law.
+int run_scene(const Config& c, const Plan& plan) {
+    if (c.hertz()) return c.dim == 2 ? run<2, micromacro::HertzMindlin>(c, plan) : run<3, micromacro::HertzMindlin>(c, plan);
+    return c.dim == 2 ? run<2, micromacro::FrictionalLinear>(c, plan) : run<3, micromacro::FrictionalLinear>(c, plan);
 }
 
 }  // namespace
@@ -443,7 +450,7 @@ int main(int argc, char** argv) {
                 micromacro::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
             c = config_from_json(saved, c);
             plan_from_json(saved.at("plan"), plan);
-            return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
+            return run_scene(c, plan);
         }
         biaxial::apply_preset(c, preset);
         biaxial::apply_options(given, c);
@@ -462,12 +469,17 @@ int main(int argc, char** argv) {
                                                       "), this run asks for --dim ", c.dim);
             biaxial::take_preparation(prepared, c);
         }
+        for (const std::string& name : biaxial::options_of_other_law(given, c))
+            micromacro::throw_input_error(name, " does not apply to --law ", c.law,
+                                          c.hertz() ? " (Mindlin's k_t follows from --young and --poisson)"
+                                                    : " (it sets Hertz-Mindlin's material; add --law hertz-mindlin)",
+                                          "; drop ", name);
         biaxial::validate(c);
         micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
         claim_output_folder(out, overwrite, plan.from_prepared);
         plan.out = out;
         plan.run_id = new_run_id();
-        return c.dim == 2 ? run<2>(c, plan) : run<3>(c, plan);
+        return run_scene(c, plan);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "biaxial: %s\n", e.what());
         return 1;

@@ -317,6 +317,14 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         {"--wall-mass 1e300", "kg is too heavy: pushed by p A alone it needs"},
         {"--kt-ratio 1e10", "--kt-ratio 1e+10 makes the tangential spring too stiff"},
         {"--dt-fraction 1e300", "steps for the loading alone, more than 1e9"},
+        // The contact law and the options that belong to the other one.
+        {"--law hertz", "--law 'hertz' is unknown"},
+        {"--law hertz-mindlin --kt-ratio 0.3", "--kt-ratio does not apply to --law hertz-mindlin"},
+        {"--young 1e9", "--young does not apply to --law linear"},
+        {"--law hertz-mindlin --poisson 0.6", "--poisson 0.6 is outside (-1, 0.5)"},
+        {"--law hertz-mindlin --restitution 0", "--restitution 0 is outside (0, 1]"},
+        {"--law hertz-mindlin --young 1e6", "presses two mean particles"},
+        {"--law hertz-mindlin --dt-fraction 5", "above the tangential spring's stable"},
     };
     for (const auto& c : cases) {
         const auto dir = work / "bad";
@@ -371,6 +379,51 @@ BOOST_AUTO_TEST_CASE(triaxial_box) {
         BOOST_TEST_REQUIRE(std::abs(tangential - 2 * alpha * normal) <= 1e-12 * normal);
         const double residual = C("kinetic_energy") + C("elastic_energy") + C("dissipated_energy") - C("work_by_walls");
         BOOST_TEST_REQUIRE(std::abs(residual) < 1e-2 * C("work_by_walls"));
+    }
+}
+
+// The Hertz-Mindlin law (--law hertz-mindlin), 2D and 3D, short: the side walls hold p, the
+// books close, the packing stiffens against the compression, and in every row the averages use
+// each contact's own stiffnesses: Mindlin's k_t / k_n is 2 (1 - nu) / (2 - nu) at every overlap
+// (between particles and on a wall alike), so the exact identities of the linear law's tests hold
+// with that ratio in place of k_t / k.
+BOOST_AUTO_TEST_CASE(hertz_mindlin_law) {
+    const double nu = 0.25, alpha = 2 * (1 - nu) / (2 - nu);
+    for (const int dim : {2, 3}) {
+        const auto dir = work / ("hertz" + std::to_string(dim));
+        const std::string size = dim == 2 ? "--particles 300 --period 0.04" : "--particles 250 --period 0.03";
+        const auto r = run("--dim " + std::to_string(dim) + " --preset quick --law hertz-mindlin " + size +
+                           " --relax 0.01 --quiet --out " + dir.string());
+        BOOST_TEST_REQUIRE(r.status == 0, r.err);
+        const std::string json = slurp(dir / "run.json");
+        BOOST_TEST(json.find("\"law\": \"hertz-mindlin\"") != std::string::npos);
+        BOOST_TEST(json.find("\"restitution\": 0.8") != std::string::npos);
+        const auto s = read_series(dir / "timeseries.csv");
+        const double p = dim == 2 ? 20.0 : 1e4;
+        BOOST_TEST(std::abs(s.at("sigma_wall_11_upper").back() / p - 1.0) < 0.02);
+        BOOST_TEST(std::abs(s.at("sigma_wall_11").front() / p - 1.0) < 0.02);
+        const std::string up = dim == 2 ? "22" : "33";
+        std::size_t mid = 0;
+        while (s.at("strain_" + up)[mid] < 0.15) ++mid;
+        BOOST_TEST(s.at("sigma_wall_" + up)[mid] > 1.2 * p);
+        for (std::size_t row = 0; row < s.at("time").size(); ++row) {
+            auto C = [&](const std::string& name) { return s.at(name)[row]; };
+            const double residual = C("kinetic_energy") + C("elastic_energy") + C("dissipated_energy") - C("work_by_walls");
+            BOOST_TEST_REQUIRE(std::abs(residual) < 1e-2 * C("work_by_walls"));
+            const double scale = C("C_n_1111") + C("C_n_2222");
+            BOOST_TEST_REQUIRE(scale > 0.0);
+            auto same = [&](double a, double b) { return std::abs(a - b) <= 1e-12 * scale; };
+            if (dim == 2) {
+                BOOST_TEST_REQUIRE(same(C("C_t_1111"), alpha * C("C_n_1122")));
+                BOOST_TEST_REQUIRE(same(C("C_t_1212"), alpha * C("C_n_1111")));
+                BOOST_TEST_REQUIRE(same(C("C_t_2121"), alpha * C("C_n_2222")));
+                BOOST_TEST_REQUIRE(same(C("C_t_1222"), alpha * C("C_n_1112")));
+            } else {
+                const double tangential = C("C_t_1111") + C("C_t_1212") + C("C_t_1313");
+                const double normal = C("C_n_1111") + C("C_n_1212") + C("C_n_1313");
+                BOOST_TEST_REQUIRE(same(tangential, 2 * alpha * normal));
+            }
+        }
     }
 }
 
