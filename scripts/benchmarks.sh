@@ -19,11 +19,11 @@ cases=(
   "2 20000 frictional 1" "2 20000 frictional 2"
   "2 200000 frictionless 1" "2 200000 frictional-no-rotation 1" "2 200000 frictional 1" "2 200000 frictional 2"
   "2 200000 frictional 1 --precision float" "2 200000 frictional 1 --no-energy"
-  "2 200000 frictional 1 --shuffle" "2 200000 frictional 1 --shuffle --sort"
+  "2 200000 frictional 1 --shuffle --no-auto-sort" "2 200000 frictional 1 --shuffle"
   "3 12500 frictional 1" "3 100000 frictionless 1" "3 100000 frictional-no-rotation 1" "3 100000 frictional 1"
   "3 100000 frictional 1 --shear" "3 100000 frictional 2"
   "3 100000 frictional 1 --precision float" "3 100000 frictional 1 --no-energy"
-  "3 100000 frictional 1 --shuffle" "3 100000 frictional 1 --shuffle --sort"
+  "3 100000 frictional 1 --shuffle --no-auto-sort" "3 100000 frictional 1 --shuffle"
 )
 out=$(mktemp -d)
 trap 'rm -rf "$out"' EXIT
@@ -57,8 +57,8 @@ for k in "${!cases[@]}"; do
   case "$extra" in
     *shear*) label=" (shear)" ;;
     *float*) label=", float storage" ;;
-    *shuffle*sort*) label=", shuffled then sort_spatially()" ;;
-    *shuffle*) label=", particles in random order" ;;
+    *shuffle*no-auto-sort*) label=", particles in random order" ;;
+    *shuffle*) label=", shuffled, sorted by the engine" ;;
     *no-energy*) label=", energy books off" ;;
     *) label="" ;;
   esac

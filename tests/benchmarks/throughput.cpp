@@ -62,7 +62,7 @@ struct Options {
     int threads = 1;
     std::string precision = "double";
     bool track_energy = true;
-    bool shuffle = false, sort = false;
+    bool shuffle = false, sort = false, auto_sort = true;
 };
 
 double peak_rss_bytes() {
@@ -155,6 +155,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
         for (std::size_t i = 0; i < sim.particles().size(); ++i) sim.particles().velocity()[i][0] = rate * (sim.particles().position()[i][dim - 1] - domain.lo()[dim - 1]);
     }
     if (o.sort) sim.sort_spatially();
+    sim.set_auto_sort(o.auto_sort);
     sim.set_time_step(dt);
     if (const double limit = sim.stable_time_step(); dt > limit)  // said in the program's terms, not the engine's
         mm::detail::throw_input_error("time step dt = ", dt, " s (", o.dt > 0.0 ? "--dt" : "t_c / --dt-fraction",
@@ -176,7 +177,9 @@ int run(const Options& o, const Law& law, const char* law_name) {
     std::string periodic;
     for (int a = 0; a < dim; ++a)
         if (domain.periodic(a)) periodic += mm::io::csv_coordinates<dim>()[a];
-    const char* order = o.shuffle ? (o.sort ? "shuffled, then sorted" : "shuffled") : (o.sort ? "sorted" : "as given");
+    const bool engine_sorted = sim.spatial_sorts() > (o.sort ? 1u : 0u);
+    const std::string order = std::string(o.shuffle ? "shuffled" : "as given") + (o.sort ? ", then sorted" : "") +
+                              (engine_sorted ? ", sorted by the engine" : "");
     const bool friction = std::string_view(law_name) != "frictionless";
     if (o.json)
         std::printf("{\"name\": \"%s-%s\", \"dim\": %d, \"particles\": %zu, \"contacts\": %zu, \"steps\": %zu, "
@@ -186,7 +189,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
                     "\"k\": %.6g, \"gamma_n\": %.6g, \"kt\": %.6g, \"gamma_t\": %.6g, \"mu\": %.6g, \"density\": %.6g, "
                     "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s, \"fma\": %s}\n",
                     name, law_name, dim, sim.particles().size(), contacts, o.steps, seconds, pps, ns_contact, bytes, storage, o.threads,
-                    o.precision.c_str(), law_name, json_string(o.packing.empty() ? "lattice" : o.packing).c_str(), order, periodic.c_str(), o.k,
+                    o.precision.c_str(), law_name, json_string(o.packing.empty() ? "lattice" : o.packing).c_str(), order.c_str(), periodic.c_str(), o.k,
                     o.gamma_n, friction ? o.kt : 0.0, friction ? o.gamma_t : 0.0, friction ? o.mu : 0.0, o.density, tc, dt,
                     sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false", fused_multiply_add ? "true" : "false");
     else {
@@ -195,7 +198,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
                     name, law_name, dim, sim.particles().size(), contacts, 2.0 * contacts / n, o.steps, seconds, pps,
                     ns_contact, bytes, storage, o.threads, o.precision.c_str());
         std::printf("  packing %s (order %s, periodic axes '%s'); k %.6g N/m, gamma_n %.6g kg/s", o.packing.empty() ? "lattice" : o.packing.c_str(),
-                    order, periodic.c_str(), o.k, o.gamma_n);
+                    order.c_str(), periodic.c_str(), o.k, o.gamma_n);
         if (friction) std::printf(", k_t %.6g N/m, gamma_t %.6g kg/s, mu %.6g", o.kt, o.gamma_t, o.mu);
         std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s; fused multiply-adds %s\n",
                     o.density, tc, dt, tc / dt, sim.skin(), o.track_energy ? "on" : "off", fused_multiply_add ? "on" : "off");
@@ -262,6 +265,9 @@ int main(int argc, char** argv) {
     app.add_flag("--shuffle", o.shuffle, "number the particles in random order first");
     app.add_flag("--sort", o.sort, "renumber the particles in row order (sort_spatially) before timing; "
                                    "a file's own order may be slow (see docs/performance.md)");
+    app.add_flag("!--no-auto-sort", o.auto_sort,
+                 "keep the particles in the order given: the engine sorts scenes of 2048 or more spatially on its own "
+                 "(BasicSimulation::set_auto_sort)");
     app.add_flag("!--no-energy", o.track_energy, "switch the energy books off (on by default, as in the examples)");
     app.add_option("--precision", o.precision, "storage precision of the particle state: double or float")
         ->check(CLI::IsMember({"double", "float"}))

@@ -71,7 +71,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(float_is_refused_unless_accepted, D, Dims) {
 BOOST_AUTO_TEST_CASE_TEMPLATE(float_halves_the_particles_memory, D, Dims) {
     const auto exact = lattice<D::value, double>(false);
     const auto coarse = lattice<D::value, float>(true);
-    BOOST_TEST(2 * coarse.particles().bytes_per_particle() == exact.particles().bytes_per_particle());
+    const std::size_t id = sizeof(mm::Index);  // the id is a whole number in either precision
+    BOOST_TEST(2 * (coarse.particles().bytes_per_particle() - id) == exact.particles().bytes_per_particle() - id);
 }
 
 // A float scene saves and restores like a double one: the restored run continues bit for bit,

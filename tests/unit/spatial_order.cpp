@@ -146,3 +146,63 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(row_order_runs_along_the_shortest_axis_first, D, D
     }
     BOOST_TEST(wrong == 0u);
 }
+
+// The engine sorts on its own (set_auto_sort, on by default) in scenes of
+// auto_sort_min_particles or more: when it first builds its neighbour lists, and again at a
+// rebuild that finds the candidates' mean index distance doubled since the last sort. Ids follow
+// the particles, and the run is the unsorted scene's up to the round-off of another summation
+// order. Below the threshold, and with the option off, the particles keep their numbers.
+BOOST_AUTO_TEST_CASE_TEMPLATE(the_engine_sorts_on_its_own_and_ids_follow, D, Dims) {
+    constexpr int dim = D::value;
+    const std::size_t n = 3000;  // randomly placed: partners anywhere in the numbering
+    auto kept = shaken_walled_packing<dim>(n, 7, 0.3);
+    BOOST_TEST_REQUIRE(n >= kept.auto_sort_min_particles);
+    kept.set_auto_sort(false);
+    auto sorted = shaken_walled_packing<dim>(n, 7, 0.3);
+    BOOST_TEST(sorted.auto_sort());
+    kept.prepare();
+    sorted.prepare();
+    BOOST_TEST(kept.spatial_sorts() == 0u);
+    BOOST_TEST(sorted.spatial_sorts() == 1u);
+    const double before = median_index_distance(kept), after = median_index_distance(sorted);
+    BOOST_TEST_MESSAGE(dim << "D: median |i - j| over contacts " << before << " in the given order, " << after << " sorted by the engine");
+    BOOST_TEST(after < before / 10);
+
+    // The ids: the given order's are the indices; the sorted scene's lead to the same particles.
+    for (std::size_t i = 0; i < n; ++i) BOOST_TEST_REQUIRE(kept.particles().id(i) == i);
+    const std::vector<mm::Index> where = sorted.particles().index_by_id();
+    for (std::size_t id = 0; id < n; ++id) {
+        BOOST_TEST_REQUIRE(sorted.particles().id(where[id]) == id);
+        BOOST_TEST_REQUIRE((sorted.particles().position()[where[id]] == kept.particles().position()[id]));
+        BOOST_TEST_REQUIRE(sorted.particles().radius()[where[id]] == kept.particles().radius()[id]);
+    }
+    // The order decays (here at once: the caller numbers the particles at random); the next
+    // neighbour search sorts them again, and the springs keep their pairs through both.
+    std::vector<mm::Index> random(n);
+    std::iota(random.begin(), random.end(), mm::Index{0});
+    std::shuffle(random.begin(), random.end(), std::mt19937(11));
+    sorted.renumber(random);
+    BOOST_TEST(median_index_distance(sorted) > 10 * after);
+    kept.prepare();  // a neighbour search (as after set_skin or added particles), in both
+    sorted.prepare();
+    BOOST_TEST(sorted.spatial_sorts() == 2u);
+    BOOST_TEST(median_index_distance(sorted) < 2 * after);
+
+    kept.run(500);
+    sorted.run(500);
+    const std::vector<mm::Index> now = sorted.particles().index_by_id();
+    double worst = 0.0;
+    for (std::size_t id = 0; id < n; ++id)
+        worst = std::max(worst, kept.domain().separation(sorted.particles().position()[now[id]], kept.particles().position()[id]).norm());
+    BOOST_TEST_MESSAGE(dim << "D: largest position difference after 500 steps: " << worst << " m");
+    BOOST_TEST(worst < 1e-12);  // radii 5e-4..1.5e-3 m
+    BOOST_TEST(std::abs(sorted.books().dissipated() / kept.books().dissipated() - 1.0) < 1e-10);
+    BOOST_TEST(kept.spatial_sorts() == 0u);
+
+    // Below the threshold the engine leaves the numbering alone.
+    auto small = shaken_walled_packing<dim>(500, 7, 0.3);
+    small.prepare();
+    BOOST_TEST(small.spatial_sorts() == 0u);
+    BOOST_CHECK_THROW(sorted.renumber(std::vector<mm::Index>(n, 0)), std::invalid_argument);
+    BOOST_CHECK_THROW(sorted.renumber(std::vector<mm::Index>(n - 1, 0)), std::invalid_argument);
+}

@@ -94,8 +94,26 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::sort_spatially(double cell) -> std::vector<Index> {
-    const std::size_t n = particles_.size();
     const std::vector<Index> order = spatial_order(particles_.position(), particles_.radius(), domain_, cell);
+    renumber(order);
+    ++sorts_;
+    sorted_gap_ = -1.0;
+    return order;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::renumber(const std::vector<Index>& order) -> void {
+    const std::size_t n = particles_.size();
+    if (order.size() != n)
+        detail::throw_input_error("renumber: an order of ", order.size(), " entries for ", n, " particles; give a permutation of 0..",
+                                  n, " - 1");
+    std::vector<bool> seen(n, false);
+    for (std::size_t k = 0; k < n; ++k) {
+        if (order[k] >= n || seen[order[k]])
+            detail::throw_input_error("renumber: entry ", k, " of the order is ", order[k], ", outside 0..", n,
+                                      " - 1 or named before; give a permutation of 0..", n, " - 1");
+        seen[order[k]] = true;
+    }
     std::vector<Index> new_index(n);
     for (std::size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<Index>(k);
     const detail::Permutation permute{order};  // an archive that reorders every array it visits
@@ -107,7 +125,6 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     }
     pairs_.renumber(new_index, true);
     if constexpr (has_walls) wall_contacts_.renumber(new_index, false);
-    return order;
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
@@ -126,6 +143,17 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     auto& next = pairs_.scratch();
     next.clear();
     neighbors_.find_pairs(x, r, domain_, skin_, next);
+    if (auto_sort_ && particles_.size() >= auto_sort_min_particles && !next.empty()) {
+        const double gap = mean_index_gap(next);
+        if (sorted_gap_ < 0.0) {
+            sorted_gap_ = gap;  // the order sort_spatially left
+        } else if (sorted_gap_ == 0.0 || gap > 2.0 * sorted_gap_) {  // never sorted, or the order has decayed
+            sort_spatially();  // renumbers the present candidates and their histories too
+            next.clear();
+            neighbors_.find_pairs(x, r, domain_, skin_, next);
+            sorted_gap_ = mean_index_gap(next);
+        }
+    }
     pairs_.commit_scratch();
     reference_ = x;
     if constexpr (has_walls) {

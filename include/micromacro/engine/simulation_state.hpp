@@ -36,6 +36,9 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     ar.value(time_);
     ar.value(steps_);
     ar.value(rebuilds_);
+    ar.value(sorts_);
+    ar.value(sorted_gap_);
+    ar.value(auto_sort_);
     ar.value(prepared_);
     ar.value(allow_unstable_);
     ar.value(track_energy_);

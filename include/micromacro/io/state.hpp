@@ -27,7 +27,8 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 // 3: tangential springs with the start of their next step (the half-step velocity)
 // 4: a sliding spring's trial force (for the step that finds its contact open)
 // 5: wall motions by name
-// 6: 2D tangential springs without alignment padding (40-byte records)
+// 6: 2D tangential springs without alignment padding (40-byte records); particle ids; the
+//    engine's spatial sorting (count, reference distance, on/off)
 inline constexpr std::uint32_t state_version = 6;
 
 /// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it

@@ -20,6 +20,7 @@
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
 #include <vtkDoubleArray.h>
+#include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkErrorCode.h>
 #include <vtkNew.h>
@@ -92,6 +93,7 @@ struct ParticleFrame {
     std::vector<double> radius, potential_energy, kinetic_energy;
     std::vector<int> coordination;
     std::vector<Tensor2<dim>> stress;
+    std::vector<long long> id;  ///< the particles' ids (empty: not written); indices change when the engine sorts
 };
 
 /// The frame of a simulation at its present state.
@@ -105,6 +107,7 @@ ParticleFrame<Sim::dimension> particle_frame(const Sim& sim) {
     f.velocity = p.velocity();
     f.force = p.force();
     f.radius = p.radius();
+    f.id.assign(p.ids().begin(), p.ids().end());
     f.potential_energy = sim.potential_energy_per_particle();
     f.kinetic_energy.resize(p.size());
     for (std::size_t i = 0; i < p.size(); ++i) f.kinetic_energy[i] = 0.5 * p.mass()[i] * p.velocity()[i].squaredNorm();
@@ -166,6 +169,13 @@ void write_particles(const ParticleFrame<dim>& f, const std::filesystem::path& p
     auto* pd = data->GetPointData();
     for (auto* a : {radius.Get(), velocity.Get(), force.Get(), potential.Get(), kinetic.Get(), stress.Get()}) pd->AddArray(a);
     pd->AddArray(coordination);
+    if (!f.id.empty()) {  // for following a particle from frame to frame in ParaView
+        vtkNew<vtkIdTypeArray> id;
+        id->SetName("id");
+        id->SetNumberOfTuples(n);
+        for (vtkIdType i = 0; i < n; ++i) id->SetValue(i, static_cast<vtkIdType>(f.id[i]));
+        pd->AddArray(id);
+    }
     if (!f.angular_velocity.empty()) {
         auto w = detail::array("angular_velocity", 3, n);
         for (vtkIdType i = 0; i < n; ++i) w->SetTuple(i, f.angular_velocity[i].data());

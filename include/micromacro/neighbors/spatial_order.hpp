@@ -27,17 +27,38 @@ namespace micromacro {
 namespace detail {
 // Applies a permutation to every array it visits (an archive for serialize()): element k of
 // each becomes its element order[k]. Arrays of another length (not sized yet) are left alone.
+// In place, cycle by cycle: no second copy of an array (the engine sorts large scenes on its
+// own, and its peak memory would otherwise grow by the largest array).
 struct Permutation {
     const std::vector<Index>& order;
     template <class U>
     void array(std::vector<U>& a) const {
-        if (a.size() != order.size()) return;
-        std::vector<U> sorted(a.size());
-        for (std::size_t k = 0; k < a.size(); ++k) sorted[k] = a[order[k]];
-        a.swap(sorted);
+        const std::size_t n = order.size();
+        if (a.size() != n) return;
+        std::vector<bool> placed(n, false);
+        for (std::size_t start = 0; start < n; ++start) {
+            if (placed[start]) continue;
+            U first = a[start];
+            std::size_t k = start;
+            while (order[k] != start) {  // k takes the element at order[k], which moves on in turn
+                a[k] = a[order[k]];
+                placed[k] = true;
+                k = order[k];
+            }
+            a[k] = first;
+            placed[k] = true;
+        }
     }
 };
 }  // namespace detail
+
+/// The mean of j - i over candidate pairs (i < j): how far apart in memory partners lie, the
+/// measure of an order's decay (0 for no pairs).
+inline double mean_index_gap(const std::vector<IndexPair>& pairs) {
+    double sum = 0.0;
+    for (const IndexPair& p : pairs) sum += double(p.j) - double(p.i);
+    return pairs.empty() ? 0.0 : sum / double(pairs.size());
+}
 
 /// The permutation that sorts the particles in row order through cells `cell` wide (default:
 /// the largest diameter), the axes taken from the shortest extent (fastest) to the longest:

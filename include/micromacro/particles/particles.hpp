@@ -6,6 +6,10 @@
 // Rotational fields (angular velocity, torque, moment of inertia) exist only when the scene
 // needs rotation (`with_rotation`); asking for them otherwise is a compile error, so a
 // frictionless scene carries no rotational storage and never updates it.
+//
+// A particle's index is where it is stored, and the engine may renumber the particles (to keep
+// partners close in memory: BasicSimulation::sort_spatially, which it also calls on its own in
+// scenes of 2048 particles or more). Its id is its index when it was added and follows it.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -15,6 +19,7 @@
 
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/index.hpp"
 
 namespace micromacro {
 
@@ -59,7 +64,7 @@ public:
     bool consistent() const {
         const std::size_t n = position_.size();
         bool same = velocity_.size() == n && force_.size() == n && radius_.size() == n && mass_.size() == n &&
-                    inverse_mass_.size() == n;
+                    inverse_mass_.size() == n && id_.size() == n;
         if constexpr (with_rotation)
             same = same && angular_velocity_.size() == n && torque_.size() == n && inertia_.size() == n && inverse_inertia_.size() == n;
         return same;
@@ -105,6 +110,11 @@ public:
                 !std::isfinite(double(mass_[i])))
                 refuse("particle ", i, " has radius ", radius_[i], " and mass ", mass_[i]);
         }
+        std::vector<bool> seen(size(), false);
+        for (std::size_t i = 0; i < size(); ++i) {
+            if (id_[i] >= size() || seen[id_[i]]) refuse("particle ", i, " has id ", id_[i], ", not one of 0..", size() - 1, " once");
+            else seen[id_[i]] = true;
+        }
     }
 
     /// Adds a particle at rest and returns its index. With rotation, `inertia` <= 0 selects the
@@ -121,6 +131,7 @@ public:
         if (!(mass > 0.0) || !std::isfinite(mass))
             detail::throw_input_error("particle ", i, ": mass = ", mass, " is invalid: it must be finite and > 0");
         position_.push_back(convert<Real>(position));
+        id_.push_back(static_cast<Index>(i));
         velocity_.push_back(V::Zero());
         force_.push_back(V::Zero());
         radius_.push_back(static_cast<Real>(radius));
@@ -142,6 +153,7 @@ public:
     /// arrays by doubling (up to twice the memory, and both copies alive while one grows).
     void reserve(std::size_t n) {
         position_.reserve(n);
+        id_.reserve(n);
         velocity_.reserve(n);
         force_.reserve(n);
         radius_.reserve(n);
@@ -168,6 +180,15 @@ public:
     const std::vector<V>& force() const { return force_; }
     const std::vector<Real>& radius() const { return radius_; }
     const std::vector<Real>& mass() const { return mass_; }
+    /// The id of the particle stored at index i: its index when it was added.
+    Index id(std::size_t i) const { return id_[i]; }
+    const std::vector<Index>& ids() const { return id_; }
+    /// The index of every id: index_by_id()[id] is where that particle is stored now.
+    std::vector<Index> index_by_id() const {
+        std::vector<Index> index(id_.size());
+        for (std::size_t i = 0; i < id_.size(); ++i) index[id_[i]] = static_cast<Index>(i);
+        return index;
+    }
 
     /// Changes a particle's mass (keeps the inverse consistent).
     void set_mass(std::size_t i, double mass) {
@@ -178,7 +199,7 @@ public:
 
     /// Bytes of particle storage per particle (all fields).
     std::size_t bytes_per_particle() const {
-        std::size_t b = 3 * sizeof(V) + 3 * sizeof(Real);
+        std::size_t b = 3 * sizeof(V) + 3 * sizeof(Real) + sizeof(Index);
         if constexpr (with_rotation) b += 2 * sizeof(A) + 2 * sizeof(Real);
         return b;
     }
@@ -198,6 +219,7 @@ public:
             ar.array(inertia_);
             ar.array(inverse_inertia_);
         }
+        ar.array(id_);
     }
 
 private:
@@ -223,6 +245,7 @@ private:
 
     std::vector<V> position_, velocity_, force_;
     std::vector<Real> radius_, mass_, inverse_mass_;
+    std::vector<Index> id_;
     [[no_unique_address]] detail::MaybeVector<with_rotation, A> angular_velocity_, torque_;
     [[no_unique_address]] detail::MaybeVector<with_rotation, Real> inertia_, inverse_inertia_;
 };
