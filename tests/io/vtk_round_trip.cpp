@@ -8,6 +8,7 @@
 
 #include <csignal>
 #include <filesystem>
+#include <numeric>
 
 #include <micromacro/io/vtk.hpp>
 #include <vtkCell.h>
@@ -51,6 +52,9 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(particles_contacts_walls_round_trip, D, Dims) {
     fs::remove_all(dir);
     fs::create_directories(dir);
     auto sim = frictional_scene<dim>();
+    std::vector<mm::Index> reversed(sim.particles().size());
+    std::iota(reversed.rbegin(), reversed.rend(), mm::Index{0});
+    sim.renumber(reversed);  // the ids then differ from the indices
     const auto frame = mm::io::particle_frame(sim);
     const auto snapshot = mm::take_snapshot(sim);
     mm::io::write_particles(frame, dir / "particles_0.vtp");
@@ -85,6 +89,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(particles_contacts_walls_round_trip, D, Dims) {
         exact &= same(pd->GetArray("potential_energy"), i, {frame.potential_energy[n]});
         exact &= same(pd->GetArray("kinetic_energy"), i, {frame.kinetic_energy[n]});
         exact &= same(pd->GetArray("coordination"), i, {double(frame.coordination[n])});
+        exact &= same(pd->GetArray("id"), i, {double(frame.position.size() - 1 - n)});
         exact &= same(pd->GetArray("velocity"), i, {v[0], v[1], v[2]});
         exact &= same(pd->GetArray("force"), i, {f[0], f[1], f[2]});
         exact &= same(pd->GetArray("angular_velocity"), i, {w[0], w[1], w[2]});
