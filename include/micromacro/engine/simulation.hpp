@@ -165,9 +165,11 @@ public:
     /// order[k] (a permutation of 0..n-1); everything follows as in sort_spatially.
     void renumber(const std::vector<Index>& order);
 
-    /// Scenes of this many particles or more are sorted by the engine (below, every array stays
-    /// in the caches: a shuffled 2D scene of 1950 ran at 0.98 of a sorted one, 8000 at 0.92, 3D
-    /// 4096 at 0.95; docs/performance.md).
+    /// Scenes of this many particles or more are sorted by the engine. A random order costs at
+    /// every size (a shuffled scene ran at 0.96-0.97 of a sorted one with 500 particles, 0.94-0.95
+    /// with 2000, 0.5 with 100 000; docs/performance.md), but below this the particles keep the
+    /// numbers the caller gave them, which small scenes are usually inspected by, and the paper's
+    /// 2D packing of 1950 keeps the bits its documents were made with.
     static constexpr std::size_t auto_sort_min_particles = 2048;
     /// On (the default), the engine sorts the particles spatially when it first builds its
     /// neighbour lists and again at a rebuild that finds the order decayed, as LAMMPS sorts its
