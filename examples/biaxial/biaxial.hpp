@@ -68,9 +68,7 @@ struct Config {
     double reference_overlap() const {
         const double force = pressure * std::pow(2.0 * mean_radius(), dim - 1);
         if (!hertz()) return force / k;
-        const double R = 0.5 * mean_radius();  // R* of two mean particles
-        const double kn = 4.0 / 3.0 * young / (2.0 * (1.0 - poisson * poisson)) * std::sqrt(R);  // f_n = kn delta^(3/2)
-        return std::pow(force / kn, 2.0 / 3.0);
+        return mm::HertzMindlin(young, poisson, restitution, 0.0).overlap_for_force(force, 0.5 * mean_radius());  // R* = a/2
     }
     /// Stiffnesses and dampings between two mean particles: the linear law's, or Hertz-Mindlin's
     /// tangent ones at the reference overlap (those of the packing's small oscillations).

@@ -6,6 +6,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "micromacro/contact/hertz_mindlin.hpp"
@@ -36,6 +37,19 @@ BOOST_AUTO_TEST_CASE(restitution_map_inverts) {
         const double alpha = mm::HertzMindlin::damping_for_restitution(e);
         BOOST_TEST(alpha > 0.0);
         BOOST_TEST(std::abs(mm::HertzMindlin::restitution_for_damping(alpha) - e) < 1e-9);
+    }
+}
+
+// overlap_for_force inverts the law's own elastic force, between particles (R* = a/2) and on a
+// rigid wall (R* = a, E* doubled).
+BOOST_AUTO_TEST_CASE(overlap_under_a_load) {
+    const mm::HertzMindlin law(young, poisson, 0.5, 0.3);
+    const double m = mm::sphere_mass(rho, a_mean), force = 0.04;
+    for (const bool wall : {false, true}) {
+        const double delta = law.overlap_for_force(force, wall ? a_mean : a_mean / 2, wall);
+        const double rj = wall ? std::numeric_limits<double>::infinity() : a_mean;
+        const mm::ContactKinematics<3> c{{mm::Vec<3>::UnitX(), delta, 0.0, mm::Vec<3>::Zero()}, a_mean, rj, 1 / m, wall ? 0.0 : 1 / m, 1e-7};
+        BOOST_TEST(law.normal_force(c).total() == force, boost::test_tools::tolerance(1e-12));
     }
 }
 

@@ -402,10 +402,12 @@ BOOST_AUTO_TEST_CASE(hertz_mindlin_law) {
         const double p = dim == 2 ? 20.0 : 1e4;
         BOOST_TEST(std::abs(s.at("sigma_wall_11_upper").back() / p - 1.0) < 0.02);
         BOOST_TEST(std::abs(s.at("sigma_wall_11").front() / p - 1.0) < 0.02);
+        // While the top wall moves, the loaded axis carries clearly more than p (a mean over the
+        // motion: at this fast rate single rows swing between 1.1 p and 5 p).
         const std::string up = dim == 2 ? "22" : "33";
-        std::size_t mid = 0;
-        while (s.at("strain_" + up)[mid] < 0.15) ++mid;
-        BOOST_TEST(s.at("sigma_wall_" + up)[mid] > 1.2 * p);
+        const double loaded = mean_over(s, "sigma_wall_" + up, 0.05, 0.19, "strain_" + up, 0.2);
+        BOOST_TEST_MESSAGE(dim << "D Hertz-Mindlin: mean sigma_wall_" << up << " over strain 0.05-0.19: " << loaded / p << " p");
+        BOOST_TEST(loaded > 1.2 * p);
         for (std::size_t row = 0; row < s.at("time").size(); ++row) {
             auto C = [&](const std::string& name) { return s.at(name)[row]; };
             const double residual = C("kinetic_energy") + C("elastic_energy") + C("dissipated_energy") - C("work_by_walls");

@@ -62,6 +62,14 @@ public:
     double effective_shear(bool wall) const {
         return young_ / (2.0 * (1.0 + poisson_)) / ((wall ? 1.0 : 2.0) * (2.0 - poisson_));
     }
+    /// k_n = (4/3) E* sqrt(R*) of f_n = k_n delta^(3/2).
+    double normal_coefficient(double effective_radius, bool wall = false) const {
+        return 4.0 / 3.0 * effective_young(wall) * std::sqrt(effective_radius);
+    }
+    /// The overlap at which the elastic normal force is `force` (for a packing under a given load).
+    double overlap_for_force(double force, double effective_radius, bool wall = false) const {
+        return std::pow(force / normal_coefficient(effective_radius, wall), 2.0 / 3.0);
+    }
 
     template <bool track, int dim>
     MICROMACRO_INLINE ContactForce<dim> force(const ContactKinematics<dim>& c, History<dim>& h) const {
@@ -175,7 +183,7 @@ private:
 
     Springs springs_at(double effective_radius, double effective_mass, double overlap, bool wall) const {
         const double d = std::max(overlap, 0.0), contact_radius = std::sqrt(effective_radius * d);
-        const double kn = 4.0 / 3.0 * effective_young(wall) * std::sqrt(effective_radius);
+        const double kn = normal_coefficient(effective_radius, wall);
         const double kt = 8.0 * effective_shear(wall) * contact_radius;
         // The tangential dashpot has the normal one's ratio to its critical damping: with
         // alpha sqrt(m* k_n) d^(1/4) = alpha sqrt(2/3) sqrt(m* S_n), S_n = 1.5 k_n sqrt(d).
