@@ -68,7 +68,8 @@ struct Config {
     double reference_overlap() const {
         const double force = pressure * std::pow(2.0 * mean_radius(), dim - 1);
         if (!hertz()) return force / k;
-        return mm::HertzMindlin(young, poisson, restitution, 0.0).overlap_for_force(force, 0.5 * mean_radius());  // R* = a/2
+        // The elastic force alone: restitution 1 spares the law its search for the damping.
+        return mm::HertzMindlin(young, poisson, 1.0, 0.0).overlap_for_force(force, 0.5 * mean_radius());  // R* = a/2
     }
     /// Stiffnesses and dampings between two mean particles: the linear law's, or Hertz-Mindlin's
     /// tangent ones at the reference overlap (those of the packing's small oscillations).

@@ -3,7 +3,6 @@
 // key in run.json and in saved states, its help text, and whether it made the packing (then a
 // prepared state supplies it). The command line, run.json and the states are all made from this
 // table.
-#include <algorithm>
 #include <charconv>
 #include <cstddef>
 #include <limits>
@@ -28,6 +27,8 @@ struct Parameter {
                  bool Config::*>
         field;
     bool preparation = false;  ///< made the packing: a prepared state supplies it
+    const char* law = nullptr;  ///< the contact law it belongs to (Config::law), or nullptr: every law
+    bool later = false;         ///< added after files were written without it: those keep the default
 };
 
 /// In run.json's order. --dim and --preset choose the presets and are handled apart.
@@ -41,17 +42,19 @@ inline const std::vector<Parameter>& parameter_table() {
         {nullptr, "radius_max_m", "", &C::radius_max, true},
         {nullptr, "density_kg_m3", "", &C::density},
         {"--law", "law", "contact law: linear (default; Eq. 20-29) or hertz-mindlin (--young, --poisson, --restitution)", &C::law,
-         true},
-        {"--young", "young_Pa", "hertz-mindlin: Young's modulus E of the particles in Pa (default 1e10)", &C::young, true},
-        {"--poisson", "poisson", "hertz-mindlin: Poisson's ratio (default 0.25)", &C::poisson, true},
-        {"--restitution", "restitution", "hertz-mindlin: normal restitution coefficient (default 0.8)", &C::restitution, true},
-        {nullptr, "k_N_m", "", &C::k},
-        {nullptr, "gamma0_kg_s", "", &C::gamma0},
+         true, nullptr, true},
+        {"--young", "young_Pa", "hertz-mindlin: Young's modulus E of the particles in Pa (default 1e10)", &C::young, true,
+         "hertz-mindlin", true},
+        {"--poisson", "poisson", "hertz-mindlin: Poisson's ratio (default 0.25)", &C::poisson, true, "hertz-mindlin", true},
+        {"--restitution", "restitution", "hertz-mindlin: normal restitution coefficient (default 0.8)", &C::restitution, true,
+         "hertz-mindlin", true},
+        {nullptr, "k_N_m", "", &C::k, false, "linear"},
+        {nullptr, "gamma0_kg_s", "", &C::gamma0, false, "linear"},
         {"--mu", "mu", "friction coefficient mu_s = mu_d (default 0.5)", &C::mu},
         {"--mu-prepare", "mu_prepare", "friction while preparing (default 0.1: volume fraction 0.83; 0.5 leaves 0.80)",
          &C::mu_prepare, true},
-        {"--kt-ratio", "kt_ratio", "linear law: k_t / k (default 0.2)", &C::kt_ratio},
-        {nullptr, "gammat_ratio", "", &C::gammat_ratio},
+        {"--kt-ratio", "kt_ratio", "linear law: k_t / k (default 0.2)", &C::kt_ratio, false, "linear"},
+        {nullptr, "gammat_ratio", "", &C::gammat_ratio, false, "linear"},
         {"--pressure", "pressure", "side pressure p (N/m in 2D, Pa in 3D; default 20 and 1e4)", &C::pressure},
         {"--period", "period_s", "T of Eq. 17 in s (loading lasts T/2)", &C::period},
         {"--final-strain", "final_strain", "eps_zz at the end of the motion (default 0.2)", &C::final_strain},
@@ -80,7 +83,8 @@ inline const std::vector<Parameter>& parameter_table() {
         {"--output-interval", "output_interval_s", "time between rows of timeseries.csv in s", &C::output_interval},
         {nullptr, "box_factor", "", &C::box_factor, true},
         {"--inner-margin", "inner_margin",
-         "averaging box: fraction of each side left out next to each wall (default 0.1, the paper's)", &C::inner_margin},
+         "averaging box: fraction of each side left out next to each wall (default 0.1, the paper's)", &C::inner_margin, false,
+         nullptr, true},
         {"--wall-friction", "wall_friction", "walls use the particles' friction (default: smooth walls)", &C::wall_friction},
     };
     return table;
@@ -95,34 +99,31 @@ inline nlohmann::ordered_json parameters_json(const Config& c) {
     return j;
 }
 
-/// The configuration saved in run.json or a state (`j` holds "parameters"), over `c`. Keys that
-/// files written before their option existed lack keep the default (the paper's inner box, the
+/// The configuration saved in run.json or a state (`j` holds "parameters"), over `c`. A file
+/// written before a `later` parameter existed keeps its default (the paper's inner box, the
 /// linear law).
 inline Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     const auto& saved = j.at("parameters");
-    static const std::vector<std::string> optional{"inner_margin", "law", "young_Pa", "poisson", "restitution"};
     for (const Parameter& p : parameter_table())
         std::visit(
             [&](auto field) {
                 using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
-                if (!saved.contains(p.key) && std::find(optional.begin(), optional.end(), p.key) != optional.end()) return;
+                if (p.later && !saved.contains(p.key)) return;
                 c.*field = saved.at(p.key).template get<T>();
             },
             p.field);
     return c;
 }
 
-/// The options of the table that the configuration's contact law does not use and were given
-/// (refused: --kt-ratio with Hertz-Mindlin, whose k_t follows from E and nu; --young and the
-/// others of Hertz-Mindlin with the linear law).
+/// The options of the table that belong to another contact law than the configuration's and
+/// were given (refused: --kt-ratio with Hertz-Mindlin, whose k_t follows from E and nu; --young
+/// and the others of Hertz-Mindlin with the linear law).
 inline std::vector<std::string> options_of_other_law(const std::vector<CLI::Option*>& options, const Config& c) {
-    static const std::vector<std::string> linear{"kt_ratio"}, hertz{"young_Pa", "poisson", "restitution"};
-    const auto& other = c.hertz() ? linear : hertz;
     std::vector<std::string> given;
+    if (c.law != "linear" && !c.hertz()) return given;  // an unknown law: validate() names it
     const auto& table = parameter_table();
     for (std::size_t k = 0; k < table.size(); ++k)
-        if (options[k] && options[k]->count() && std::find(other.begin(), other.end(), table[k].key) != other.end())
-            given.push_back(options[k]->get_name());
+        if (table[k].law && c.law != table[k].law && options[k] && options[k]->count()) given.push_back(options[k]->get_name());
     return given;
 }
 

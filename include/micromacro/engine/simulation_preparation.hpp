@@ -107,13 +107,9 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if (order.size() != n)
         detail::throw_input_error("renumber: an order of ", order.size(), " entries for ", n, " particles; give a permutation of 0..",
                                   n, " - 1");
-    std::vector<bool> seen(n, false);
-    for (std::size_t k = 0; k < n; ++k) {
-        if (order[k] >= n || seen[order[k]])
-            detail::throw_input_error("renumber: entry ", k, " of the order is ", order[k], ", outside 0..", n,
-                                      " - 1 or named before; give a permutation of 0..", n, " - 1");
-        seen[order[k]] = true;
-    }
+    if (const std::size_t k = first_not_permuted(order); k < n)
+        detail::throw_input_error("renumber: entry ", k, " of the order is ", order[k], ", outside 0..", n,
+                                  " - 1 or named before; give a permutation of 0..", n, " - 1");
     std::vector<Index> new_index(n);
     for (std::size_t k = 0; k < n; ++k) new_index[order[k]] = static_cast<Index>(k);
     const detail::Permutation permute{order};  // an archive that reorders every array it visits

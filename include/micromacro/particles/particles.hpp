@@ -110,11 +110,8 @@ public:
                 !std::isfinite(double(mass_[i])))
                 refuse("particle ", i, " has radius ", radius_[i], " and mass ", mass_[i]);
         }
-        std::vector<bool> seen(size(), false);
-        for (std::size_t i = 0; i < size(); ++i) {
-            if (id_[i] >= size() || seen[id_[i]]) refuse("particle ", i, " has id ", id_[i], ", not one of 0..", size() - 1, " once");
-            else seen[id_[i]] = true;
-        }
+        if (const std::size_t i = first_not_permuted(id_); i < size())
+            refuse("particle ", i, " has id ", id_[i], ", not one of 0..", size() - 1, " once");
     }
 
     /// Adds a particle at rest and returns its index. With rotation, `inertia` <= 0 selects the
