@@ -11,10 +11,16 @@
 # compares the wall seconds of whole runs (each into a temporary directory, no pictures;
 # ratio < 1: this build is faster). OTHER_CMAKE_ARGS configures the other commit's build, e.g.
 #   OTHER_CMAKE_ARGS=-DMICROMACRO_FMA=OFF scripts/side_by_side.sh HEAD "ARGS" 9
-# times this build against the same commit without fused multiply-adds.
+# times this build against the same commit without fused multiply-adds, and OTHER_ARGS gives the
+# other build its own options, e.g.
+#   OTHER_ARGS="--dim 3 --particles 100000 --steps 60 --shuffle --no-auto-sort" \
+#     scripts/side_by_side.sh HEAD "--dim 3 --particles 100000 --steps 60 --shuffle" 7
+# times the engine's own sorting against the shuffled order kept. Prefix `taskset -c 1` to pin
+# both programs to one core (the pinned figures of docs/performance.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 commit=$1 args=$2 reps=${3:-5}
+other_args=${OTHER_ARGS:-$args}
 program=${PROGRAM:-throughput}
 case "$program" in
   throughput) target=tests/benchmarks/throughput ;;
@@ -30,7 +36,8 @@ read -r -a other_cmake_args <<<"${OTHER_CMAKE_ARGS:-}"
 cmake -S "$tree" -B "$tree/build" -DCMAKE_BUILD_TYPE=Release "${other_cmake_args[@]}" >/dev/null
 cmake --build "$tree/build" -j2 --target "$program" >/dev/null
 old=$tree/build/$target
-measure() {
+measure() {  # measure BINARY ARGS
+  local args=$2
   if [ "$program" = throughput ]; then
     "$1" $args --json | grep -o '"particle_steps_per_second": [0-9.e+]*' | awk '{print $2}'
   else
@@ -45,11 +52,11 @@ measure() {
 median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
 o=() n=() q=()
 for k in $(seq "$reps"); do
-  if ((k % 2)); then a=$(measure "$old"); b=$(measure "$new"); else b=$(measure "$new"); a=$(measure "$old"); fi
+  if ((k % 2)); then a=$(measure "$old" "$other_args"); b=$(measure "$new" "$args"); else b=$(measure "$new" "$args"); a=$(measure "$old" "$other_args"); fi
   o+=("$a") n+=("$b") q+=("$(awk -v x="$b" -v y="$a" 'BEGIN {print x / y}')")
 done
 mo=$(printf '%s\n' "${o[@]}" | median) mn=$(printf '%s\n' "${n[@]}" | median) mq=$(printf '%s\n' "${q[@]}" | median)
 unit="particle-steps/s"
 [ "$program" = biaxial ] && unit="s"
-echo "$program $args ($unit): $commit${OTHER_CMAKE_ARGS:+ ($OTHER_CMAKE_ARGS)} ${o[*]}; this build ${n[*]}"
+echo "$program $args ($unit): $commit${OTHER_CMAKE_ARGS:+ ($OTHER_CMAKE_ARGS)}${OTHER_ARGS:+ with $OTHER_ARGS} ${o[*]}; this build ${n[*]}"
 echo "medians $mo and $mn, ratio $(awk -v a="$mn" -v b="$mo" 'BEGIN {printf "%.3f", a / b}'); median of the pairs' ratios $(awk -v q="$mq" 'BEGIN {printf "%.3f", q}') ($reps pairs)"
