@@ -57,6 +57,7 @@ struct Config {
     double inner_margin = 0.1;     // averaging box: this fraction of each side left out next to each wall (the paper's 10%)
     bool wall_friction = false;    // walls use the particles' friction (default: smooth walls, principal axes)
     double mu_prepare = 0.1;       // friction while preparing: low gives the paper's volume fraction 0.82-0.84
+    std::string prepare_walls = "upper"; // walls that compress while preparing: upper (the others stay) or both of each axis
     double max_prepare_time = 0.0; // s; 0 = 50 x the time a wall needs to cross the box at prepare_speed
 
     // Derived.
@@ -196,6 +197,9 @@ inline void validate(const Config& c) {
                           "taken against the motion (0.2 in YADE's examples)");
     mm::require_non_negative(c.gamma_b_prepare, "--gamma-b-prepare", "use 0 for no background damping");
     mm::require_non_negative(c.mu_prepare, "--mu-prepare", "use 0 for frictionless particles while preparing");
+    if (c.prepare_walls != "upper" && c.prepare_walls != "both")
+        throw_input_error("--prepare-walls '", c.prepare_walls, "' is unknown; use upper (the lower walls stay) or both "
+                          "(opposite walls close in together)");
     // A drag gamma on the lightest particle takes gamma dt / m of its velocity per step; at 1 or
     // more the explicit drag overshoots (the run would blow up and blame the time step).
     const double m_min = mm::sphere_mass(c.density, c.radius_min);
@@ -324,7 +328,8 @@ public:
         }
         auto& walls = sim_.walls();
         for (int k = 0; k < dim; ++k) {
-            walls.add_axis_aligned(k, true, 0.0).frictionless = !c_.wall_friction;
+            const bool both = c_.prepare_walls == "both";
+            walls.add_axis_aligned(k, true, 0.0, both ? prepare_motion(L) : mm::WallMotion{}).frictionless = !c_.wall_friction;
             walls.add_axis_aligned(k, false, L, prepare_motion(L)).frictionless = !c_.wall_friction;
         }
         sim_.template body_force<mm::BackgroundDamping>() =
@@ -371,14 +376,18 @@ public:
     void start_loading() {
         auto& walls = sim_.walls();
         for (int k = 0; k < dim; ++k) {
+            auto& lower = walls[2 * k];
             auto& upper = walls[2 * k + 1];
-            upper.initial_offset = upper.offset;
-            upper.speed = 0.0;
+            box0_[k] = upper.coordinate() - lower.coordinate();
+            for (auto* w : {&lower, &upper}) {
+                w->initial_offset = w->offset;
+                w->speed = 0.0;
+            }
+            lower.motion = mm::FixedMotion{};
             if (k == up)
-                upper.motion = mm::StrainControlled{c_.final_strain * upper.coordinate(), c_.period, sim_.time()};
+                upper.motion = mm::StrainControlled{c_.final_strain * box0_[k], c_.period, sim_.time()};
             else
                 upper.motion = mm::StressControlled{c_.pressure, c_.wall_mass, c_.wall_damping, 0.0, c_.wall_follow_time};
-            box0_[k] = upper.coordinate() - walls[2 * k].coordinate();
         }
         const double gamma = c_.gamma_b, gamma_r = c_.rotational_damping(c_.gamma_b);
         sim_.template body_force<mm::BackgroundDamping>() = c_.damping == "lab" ? mm::BackgroundDamping(gamma, gamma_r) : mm::BackgroundDamping();

@@ -3,6 +3,7 @@
 #define BOOST_TEST_MODULE tools_biaxial
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -314,6 +315,7 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         {"--gamma-b-prepare 1e3", "--gamma-b-prepare 1000 kg/s would take"},
         {"--wall-mass 1e-30", "--wall-mass 1e-30 kg is too light"},
         {"--mu-prepare -0.1", "--mu-prepare = -0.1 is invalid"},
+        {"--prepare-walls sideways", "--prepare-walls 'sideways' is unknown; use upper"},
         {"--wall-mass 1e300", "kg is too heavy: pushed by p A alone it needs"},
         {"--kt-ratio 1e10", "--kt-ratio 1e+10 makes the tangential spring too stiff"},
         {"--dt-fraction 1e300", "steps for the loading alone, more than 1e9"},
@@ -379,6 +381,34 @@ BOOST_AUTO_TEST_CASE(triaxial_box) {
         BOOST_TEST_REQUIRE(std::abs(tangential - 2 * alpha * normal) <= 1e-12 * normal);
         const double residual = C("kinetic_energy") + C("elastic_energy") + C("dissipated_energy") - C("work_by_walls");
         BOOST_TEST_REQUIRE(std::abs(residual) < 1e-2 * C("work_by_walls"));
+    }
+}
+
+// --prepare-walls both: opposite walls close in together, so the lower walls leave the origin
+// too, by about as much as the upper ones (the same push on the same packing from either side);
+// the prepared box holds p on every wall, the lower walls then stay where the preparation left
+// them, and the strain counts from the prepared box.
+BOOST_AUTO_TEST_CASE(both_walls_prepare) {
+    for (const int dim : {2, 3}) {
+        const auto dir = work / ("both_walls_" + std::to_string(dim));
+        const auto r = run("--dim " + std::to_string(dim) + " --preset quick --prepare-walls both --quiet --out " + dir.string());
+        BOOST_TEST_REQUIRE(r.status == 0, r.err);
+        const auto s = read_series(dir / "timeseries.csv");
+        const double p = dim == 2 ? 20.0 : 1e4;
+        const std::string up = std::to_string(dim);
+        for (int k = 1; k <= dim; ++k) {
+            const std::string a = std::to_string(k), axis = "wall_" + a;
+            const double lower = s.at(axis + "_lower").front(), upper = s.at(axis + "_upper").front();
+            // The box starts at [0, L] with L about twice the prepared side: a lower wall that
+            // travels as far as the upper one ends near half the side from the origin.
+            BOOST_TEST_MESSAGE(dim << "D axis " << a << ": lower wall at " << lower / (upper - lower) << " of the side");
+            BOOST_TEST(lower > 0.3 * (upper - lower));
+            BOOST_TEST(lower < 0.7 * (upper - lower));
+            BOOST_TEST(std::abs(s.at("sigma_wall_" + a + a).front() / p - 1.0) < 0.02);
+            for (const double x : s.at(axis + "_lower")) BOOST_TEST_REQUIRE(x == lower);
+        }
+        const auto& strain = s.at("strain_" + up + up);
+        BOOST_TEST(std::abs(*std::max_element(strain.begin(), strain.end()) - 0.2) < 1e-12);
     }
 }
 
