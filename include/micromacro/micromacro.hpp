@@ -20,6 +20,8 @@
 #include "micromacro/neighbors/brute_force.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/neighbors/spatial_order.hpp"
+#include "micromacro/walls/motion.hpp"
+#include "micromacro/walls/shape.hpp"
 #include "micromacro/walls/walls.hpp"
 #include "micromacro/averaging/affine_probe.hpp"
 #include "micromacro/averaging/coarse_graining.hpp"

@@ -10,7 +10,7 @@
 #include "micromacro/engine/contact_response.hpp"
 #include "micromacro/engine/pair_loop.hpp"
 #include "micromacro/engine/wall_contacts.hpp"
-#include "micromacro/walls/walls.hpp"
+#include "micromacro/walls/shape.hpp"
 
 namespace micromacro::detail {
 
@@ -18,9 +18,9 @@ namespace micromacro::detail {
 /// candidate of `wall_contacts` that touches (`walls` and `wall_contacts` null without walls).
 /// `in` holds the particle arrays (its pair and history pointers are not used). A frictionless
 /// wall's contacts are shown to the law without history: normal part only.
-template <bool rotation, int dim, class Real, class Law, class History, class F>
+template <bool rotation, int dim, class Real, class Law, class History, class WallSet, class F>
 void visit_contacts(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law,
-                    const ContactList<History>& pairs, const Walls<dim>* walls, const ContactList<History>* wall_contacts, F&& f) {
+                    const ContactList<History>& pairs, const WallSet* walls, const ContactList<History>* wall_contacts, F&& f) {
     using V = Vec<dim>;
     static const History none{};  // for a law without history
     auto history = [&](const ContactList<History>& list, [[maybe_unused]] std::size_t c) -> const History* {
@@ -41,9 +41,9 @@ void visit_contacts(const ContactLoopInput<dim, Real, History>& in, const Domain
     for (std::size_t c = 0; c < wall_contacts->size(); ++c) {
         const auto [i, w] = wall_contacts->pairs()[c];
         const auto& wall = (*walls)[w];
-        const double s = wall.distance(convert<double>(in.x[i])), a = in.r[i];
-        if (!(s < a)) continue;
-        f(contact_view(law, i, w, true, wall_kinematics<rotation>(in, i, wall, s, dt), V(s * wall.normal),
+        const WallPoint<dim> point = wall.nearest(convert<double>(in.x[i]));
+        if (!(point.distance < in.r[i])) continue;
+        f(contact_view(law, i, w, true, wall_kinematics<rotation>(in, i, wall, point, dt), V(point.distance * point.normal),
                        wall.frictionless ? nullptr : history(*wall_contacts, c)));
     }
 }

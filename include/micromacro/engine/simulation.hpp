@@ -119,18 +119,7 @@ public:
     /// candidates are split into equal contiguous shares, each thread adds its forces into its
     /// own array and the arrays are summed in thread order: a fixed thread count gives the same
     /// bits every run, another count differs by round-off only.
-    void set_threads(int threads) {
-#ifdef _OPENMP
-        if (threads < 1 || threads > omp_get_max_threads() * 4)
-            detail::throw_input_error("threads = ", threads, " is outside 1..", omp_get_max_threads() * 4,
-                                      "; use up to the number of cores (", omp_get_num_procs(), " here)");
-#else
-        if (threads != 1)
-            detail::throw_input_error("threads = ", threads, " needs OpenMP, but this program was compiled without "
-                                      "it; compile with -fopenmp (CMake: link OpenMP::OpenMP_CXX) or use 1 thread");
-#endif
-        threads_ = threads;
-    }
+    void set_threads(int threads);
     int threads() const { return threads_; }
     /// Threads actually used: starting a team costs microseconds, so a scene with fewer than
     /// 2000 particles per thread runs serially (the choice depends only on N and the count, so
@@ -298,12 +287,14 @@ private:
     // half a step after, so the trapezoid keeps the books second order and level with the state.
     void close_step_books();
 
-    // The walls and their contact list, both null in a scene without walls.
-    std::pair<const Walls<dim>*, const ContactList<History>*> wall_parts() const {
+    // The walls and their contact list, both null in a scene without walls (typed as plane walls
+    // then, which the wall passes never reach).
+    using WallSet = std::conditional_t<has_walls, Boundary, Walls<dim>>;
+    std::pair<const WallSet*, const ContactList<History>*> wall_parts() const {
         if constexpr (has_walls) return {&walls_, &wall_contacts_};
         else return {nullptr, nullptr};
     }
-    std::pair<const Walls<dim>*, ContactList<History>*> wall_parts() {
+    std::pair<const WallSet*, ContactList<History>*> wall_parts() {
         if constexpr (has_walls) return {&walls_, &wall_contacts_};
         else return {nullptr, nullptr};
     }

@@ -50,12 +50,14 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if (!prepared_) prepare();
     const double energy_before = track_energy_ ? energy().total() : 0.0;
     const Domain<dim> deformed = domain_.deformed(F);
+    Boundary mapped_walls = walls_;
+    if constexpr (has_walls) mapped_walls.deform(F);  // first: walls it cannot map are refused before anything moves
     auto& x = particles_.template get<field::Position>();
     if constexpr (Law::has_history) {
         const auto [walls, wall_contacts] = wall_parts();
         detail::load_springs_affinely(F, particle_input(), domain_, law_, pairs_, walls, wall_contacts);
     }
-    if constexpr (has_walls) walls_.deform(F);
+    walls_ = std::move(mapped_walls);
     for (auto& p : x) {
         V moved = F * convert<double>(p);
         deformed.wrap(moved);

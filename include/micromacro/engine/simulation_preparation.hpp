@@ -1,7 +1,7 @@
 #pragma once
-// BasicSimulation before it runs and when it fails: the stability limit, prepare() with its
-// checks of the scene, the neighbour-list rebuild, the spatial renumbering, the position
-// resolution, and the report of a blow-up.
+// BasicSimulation before it runs and when it fails: the thread count, the stability limit,
+// prepare() with its checks of the scene, the neighbour-list rebuild, the spatial renumbering,
+// the position resolution, and the report of a blow-up.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -10,6 +10,20 @@
 #include "micromacro/engine/simulation.hpp"
 
 namespace micromacro {
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline void BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::set_threads(int threads) {
+#ifdef _OPENMP
+    if (threads < 1 || threads > omp_get_max_threads() * 4)
+        detail::throw_input_error("threads = ", threads, " is outside 1..", omp_get_max_threads() * 4,
+                                  "; use up to the number of cores (", omp_get_num_procs(), " here)");
+#else
+    if (threads != 1)
+        detail::throw_input_error("threads = ", threads, " needs OpenMP, but this program was compiled without "
+                                  "it; compile with -fopenmp (CMake: link OpenMP::OpenMP_CXX) or use 1 thread");
+#endif
+    threads_ = threads;
+}
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::stable_time_step() const -> double {
@@ -69,15 +83,24 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     }
     if constexpr (has_walls) {
         for (std::size_t w = 0; w < walls_.size(); ++w) {
-            for (int k = 0; k < dim; ++k)
-                if (domain_.periodic(k) && walls_[w].normal[k] != 0.0)
-                    detail::throw_input_error("wall ", w, " is not parallel to periodic axis ", k,
-                                              "; walls may only bound non-periodic axes");
+            for (int k = 0; k < dim; ++k) {
+                if (!domain_.periodic(k)) continue;
+                // Distances from a wall are not wrapped: a plane must run along the periodic axis,
+                // and a surface of another shape has no such guarantee.
+                if constexpr (Boundary::planes) {
+                    if (walls_[w].normal[k] != 0.0)
+                        detail::throw_input_error("wall ", w, " is not parallel to periodic axis ", k,
+                                                  "; walls may only bound non-periodic axes");
+                } else {
+                    detail::throw_input_error("wall ", w, " has shape '", Boundary::ShapeType::name, "' and axis ", k,
+                                              " is periodic; walls other than planes need a domain without periodic axes");
+                }
+            }
             for (std::size_t i = 0; i < n; ++i)
                 if (!(walls_[w].distance(convert<double>(particles_.position()[i])) > 0.0))
                     detail::throw_input_error("particle ", i, " starts outside wall ", w, " (its centre is ",
                                               -walls_[w].distance(convert<double>(particles_.position()[i])),
-                                              " m behind the plane); move it inside or move the wall");
+                                              " m behind its surface); move it inside or move the wall");
         }
     }
     rebuild_neighbors();

@@ -1,6 +1,8 @@
 #pragma once
 // The engine's side of the averaging: a simulation's present state frozen into the
 // PackingSnapshot that every average works on.
+#include <type_traits>
+
 #include "micromacro/averaging/snapshot.hpp"
 #include "micromacro/engine/contact_view.hpp"
 
@@ -42,8 +44,10 @@ PackingSnapshot<Sim::dimension> take_snapshot(const Sim& sim) {
         c.sliding = v.sliding;
         s.contacts.push_back(c);
     });
-    if constexpr (Sim::has_walls)
-        for (const auto& w : sim.walls()) s.walls.push_back({w.normal, w.offset, w.force});
+    if constexpr (Sim::has_walls) {  // the averages know planar walls; other shapes are left out
+        if constexpr (std::remove_cvref_t<decltype(sim.walls())>::planes)
+            for (const auto& w : sim.walls()) s.walls.push_back({w.normal, w.offset, w.force});
+    }
     return s;
 }
 

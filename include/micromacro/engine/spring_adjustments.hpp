@@ -9,7 +9,7 @@
 #include "micromacro/engine/contact_response.hpp"
 #include "micromacro/engine/pair_loop.hpp"
 #include "micromacro/engine/wall_contacts.hpp"
-#include "micromacro/walls/walls.hpp"
+#include "micromacro/walls/shape.hpp"
 
 namespace micromacro::detail {
 
@@ -17,9 +17,9 @@ namespace micromacro::detail {
 /// evaluation, made with step `evaluated_dt`, found it (ContactLawIn::step_back; for the built-in
 /// spring, CundallStrack::step_back), so that an evaluation of the same instant with step dt does
 /// not advance it twice. `in` holds the particle arrays.
-template <bool rotation, int dim, class Real, class Law, class History>
+template <bool rotation, int dim, class Real, class Law, class History, class WallSet>
 void step_back_springs(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law,
-                       ContactList<History>& pairs, const Walls<dim>* walls, ContactList<History>* wall_contacts,
+                       ContactList<History>& pairs, const WallSet* walls, ContactList<History>* wall_contacts,
                        double evaluated_dt, double dt) {
     using V = Vec<dim>;
     for (std::size_t c = 0; c < pairs.size(); ++c) {
@@ -35,16 +35,17 @@ void step_back_springs(const ContactLoopInput<dim, Real, History>& in, const Dom
     for (std::size_t c = 0; c < wall_contacts->size(); ++c) {
         const auto [i, w] = wall_contacts->pairs()[c];
         const auto& wall = (*walls)[w];
-        law.step_back(wall.normal, wall_point_velocity<rotation>(in, i, wall), evaluated_dt, dt, wall_contacts->history(c));
+        const V n = wall.nearest(convert<double>(in.x[i])).normal;
+        law.step_back(n, wall_point_velocity<rotation>(in, i, wall, n), evaluated_dt, dt, wall_contacts->history(c));
     }
 }
 
 /// Every spring takes up the tangential part of its contact's branch change under x -> F x,
 /// as if the partners had moved there (walls null without walls; a frictionless wall's
 /// contacts have no spring to load). `in` holds the particle arrays before the map.
-template <int dim, class Real, class Law, class History>
+template <int dim, class Real, class Law, class History, class WallSet>
 void load_springs_affinely(const Eigen::Matrix<double, dim, dim>& F, const ContactLoopInput<dim, Real, History>& in,
-                           const Domain<dim>& domain, const Law& law, ContactList<History>& pairs, const Walls<dim>* walls,
+                           const Domain<dim>& domain, const Law& law, ContactList<History>& pairs, const WallSet* walls,
                            ContactList<History>* wall_contacts) {
     using V = Vec<dim>;
     auto load = [&](History& h, const V& l) {
@@ -59,7 +60,9 @@ void load_springs_affinely(const Eigen::Matrix<double, dim, dim>& F, const Conta
     for (std::size_t c = 0; c < wall_contacts->size(); ++c) {
         const auto [i, w] = wall_contacts->pairs()[c];
         const auto& wall = (*walls)[w];
-        if (!wall.frictionless) load(wall_contacts->history(c), V(wall.distance(convert<double>(in.x[i])) * wall.normal));
+        if (wall.frictionless) continue;
+        const WallPoint<dim> point = wall.nearest(convert<double>(in.x[i]));
+        load(wall_contacts->history(c), V(point.distance * point.normal));
     }
 }
 

@@ -13,35 +13,37 @@
 #include "micromacro/core/inline.hpp"
 #include "micromacro/engine/contact_response.hpp"
 #include "micromacro/engine/pair_loop.hpp"
-#include "micromacro/walls/walls.hpp"
+#include "micromacro/walls/shape.hpp"
 
 namespace micromacro::detail {
 
 /// Every (particle, wall) closer than its radius plus `skin`, in particle order.
-template <int dim, class Real>
-void find_wall_candidates(const std::vector<Vec<dim, Real>>& x, const std::vector<Real>& r, const Walls<dim>& walls, double skin,
+template <int dim, class Real, class WallSet>
+void find_wall_candidates(const std::vector<Vec<dim, Real>>& x, const std::vector<Real>& r, const WallSet& walls, double skin,
                           std::vector<IndexPair>& out) {
     for (Index i = 0; i < x.size(); ++i)
         for (Index w = 0; w < walls.size(); ++w)
             if (walls[w].distance(convert<double>(x[i])) < double(r[i]) + skin) out.push_back({i, w});
 }
 
-/// v_ij of Eq. 25 for particle i on a wall: its contact point's velocity relative to the wall's.
-template <bool rotation, int dim, class Real, class History>
-MICROMACRO_INLINE Vec<dim> wall_point_velocity(const ContactLoopInput<dim, Real, History>& in, Index i, const Wall<dim>& wall) {
-    Vec<dim> vr = convert<double>(in.v[i]) - wall.speed * wall.normal;
-    if constexpr (rotation)
-        vr += DimTraits<dim>::cross(wall.normal, Angular<dim>(double(in.r[i]) * convert<double>(in.w[i])));
+/// v_ij of Eq. 25 for particle i on a wall whose surface normal at the contact is n: its contact
+/// point's velocity relative to the wall's.
+template <bool rotation, int dim, class Real, class History, class WallT>
+MICROMACRO_INLINE Vec<dim> wall_point_velocity(const ContactLoopInput<dim, Real, History>& in, Index i, const WallT& wall,
+                                               const Vec<dim>& n) {
+    Vec<dim> vr = convert<double>(in.v[i]) - wall.velocity();
+    if constexpr (rotation) vr += DimTraits<dim>::cross(n, Angular<dim>(double(in.r[i]) * convert<double>(in.w[i])));
     return vr;
 }
 
-/// The kinematics of particle i on `wall` at distance s from it (the wall is a body of infinite
-/// radius and mass).
-template <bool rotation, int dim, class Real, class History>
-MICROMACRO_INLINE ContactKinematics<dim> wall_kinematics(const ContactLoopInput<dim, Real, History>& in, Index i, const Wall<dim>& wall,
-                                                         double s, double dt) {
-    const Vec<dim> vr = wall_point_velocity<rotation>(in, i, wall);
-    return {{wall.normal, double(in.r[i]) - s, wall.normal.dot(vr), vr}, in.r[i], std::numeric_limits<double>::infinity(),
+/// The kinematics of particle i on `wall`, its centre at `point` against the surface (the wall
+/// is a body of infinite radius and mass).
+template <bool rotation, int dim, class Real, class History, class WallT>
+MICROMACRO_INLINE ContactKinematics<dim> wall_kinematics(const ContactLoopInput<dim, Real, History>& in, Index i, const WallT& wall,
+                                                         const WallPoint<dim>& point, double dt) {
+    const Vec<dim>& n = point.normal;
+    const Vec<dim> vr = wall_point_velocity<rotation>(in, i, wall, n);
+    return {{n, double(in.r[i]) - point.distance, n.dot(vr), vr}, in.r[i], std::numeric_limits<double>::infinity(),
             in.inverse_mass[i], 0.0, dt};
 }
 
@@ -49,8 +51,8 @@ MICROMACRO_INLINE ContactKinematics<dim> wall_kinematics(const ContactLoopInput<
 /// part only on a frictionless wall), what the law adds for one that opened (see
 /// ContactLawIn::opening_force), and each wall's force, the opposite of what its particles
 /// receive.
-template <bool track, bool rotation, int dim, class Real, class Law, class History>
-void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Walls<dim>& walls, const Law& law, double dt,
+template <bool track, bool rotation, int dim, class Real, class Law, class History, class WallSet>
+void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t count, WallSet& walls, const Law& law, double dt,
                  Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque, EnergyBooks& books) {
     using V = Vec<dim>;
     using A = Angular<dim>;
@@ -59,15 +61,16 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
     for (std::size_t c = 0; c < count; ++c) {
         const auto [i, w] = in.pair[c];
         auto& wall = walls[w];
-        const double s = wall.distance(convert<double>(in.x[i])), a = in.r[i];
-        if (s >= a) {
+        const WallPoint<dim> point = wall.nearest(convert<double>(in.x[i]));
+        const double a = in.r[i];
+        if (point.distance >= a) {
             if constexpr (Law::has_history) {
                 History& h = in.history[c];
                 if (law.touched(h)) [[unlikely]] {  // opened in the last step
-                    const V force = law.opening_force(wall_kinematics<rotation>(in, i, wall, s, dt), h);
+                    const V force = law.opening_force(wall_kinematics<rotation>(in, i, wall, point, dt), h);
                     f[i] += convert<Real>(force);
                     wall.force -= force;
-                    if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(wall.normal, force)));
+                    if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(point.normal, force)));
                 }
                 h = History{};
             }
@@ -78,10 +81,10 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
             if constexpr (Law::has_history) return in.history[c];
             else return none;
         }();
-        const auto resp = respond<track>(law, wall_kinematics<rotation>(in, i, wall, s, dt), h, books, wall.frictionless);
+        const auto resp = respond<track>(law, wall_kinematics<rotation>(in, i, wall, point, dt), h, books, wall.frictionless);
         f[i] += convert<Real>(resp.force);
         wall.force -= resp.force;
-        if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(wall.normal, resp.tangential)));
+        if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(point.normal, resp.tangential)));
     }
 }
 

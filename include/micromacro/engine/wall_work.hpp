@@ -6,7 +6,7 @@
 
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/energy.hpp"
-#include "micromacro/walls/walls.hpp"
+#include "micromacro/walls/motion.hpp"
 
 namespace micromacro::detail {
 
@@ -17,13 +17,13 @@ struct WallBook {
 
 /// Books the walls' work since `last` (trapezoid in the wall force) into `books` and moves
 /// `last` on to the present evaluation.
-template <int dim>
-void book_wall_work(const Walls<dim>& walls, const Domain<dim>& domain, std::vector<WallBook>& last_books, EnergyBooks& books) {
+template <int dim, class WallSet>
+void book_wall_work(const WallSet& walls, const Domain<dim>& domain, std::vector<WallBook>& last_books, EnergyBooks& books) {
     last_books.resize(walls.size());
     for (std::size_t w = 0; w < walls.size(); ++w) {
         const auto& wall = walls[w];
         auto& last = last_books[w];
-        const double push = wall.force.dot(wall.normal);  // < 0: the particles push it outward
+        const double push = wall.load();  // < 0: the particles push it back
         const double moved = wall.offset - last.offset;
         if (const auto* s = std::get_if<StressControlled>(&wall.motion)) {
             // The wall is part of the system: the pressure does work, its damper dissipates.

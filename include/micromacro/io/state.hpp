@@ -15,6 +15,7 @@
 #include <fstream>
 #include <string>
 #include <type_traits>
+#include <utility>
 #include <vector>
 
 #include "micromacro/core/error.hpp"
@@ -29,7 +30,7 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 // 5: wall motions by name
 // 6: 2D tangential springs without alignment padding (40-byte records); particle ids; the
 //    engine's spatial sorting (count, reference distance, on/off)
-inline constexpr std::uint32_t state_version = 6;
+inline constexpr std::uint32_t state_version = 7;
 
 /// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it
 /// (each step is a bijection of the running value); other changes go unseen with chance 2^-64.
@@ -131,14 +132,16 @@ inline std::uint64_t verify_state_file(const std::filesystem::path& path) {
     return contents;
 }
 
-/// A signature of the scene's storage: dimension, storage precision, size of the simulation
-/// object and of its contact history. A state saved by a different scene type is refused.
+/// A signature of the scene's storage: dimension, storage precision, the walls' shape, size of
+/// the simulation object and of its contact history. A state saved by a different scene type is
+/// refused.
 template <class Sim>
 std::string signature() {
+    std::string walls = "none";
+    if constexpr (Sim::has_walls) walls = std::remove_cvref_t<decltype(std::declval<const Sim&>().walls())>::ShapeType::name;
     return "dim=" + std::to_string(Sim::dimension) + " real=" + std::to_string(8 * sizeof(typename Sim::Scalar)) + "bit" +
-           " rotation=" + std::to_string(Sim::rotation) +
-           " walls=" + std::to_string(Sim::has_walls) + " history=" + std::to_string(sizeof(typename Sim::History)) +
-           " object=" + std::to_string(sizeof(Sim));
+           " rotation=" + std::to_string(Sim::rotation) + " walls=" + walls +
+           " history=" + std::to_string(sizeof(typename Sim::History)) + " object=" + std::to_string(sizeof(Sim));
 }
 }  // namespace detail
 

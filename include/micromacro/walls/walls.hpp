@@ -1,18 +1,13 @@
 #pragma once
-// Planar walls. A wall is a plane n . x = h with unit normal n pointing into the domain; a
-// particle touches it when its centre is closer than its radius. The contact uses the scene's
-// contact law with the wall as an infinite-mass partner, and the opposite force is summed on
-// the wall (a wall marked frictionless uses only the law's normal part). How the wall moves is its
-// motion policy:
-//   FixedMotion       never moves;
-//   StrainControlled  moves by Eq. 17 (a cosine ramp of given travel and period, then stops);
-//   StressControlled  obeys Eq. 18, m_w h'' = p A - F - gamma_w h', F the push of the particles.
-// Motions act on the offset h along the inward normal, so "travel > 0" compresses.
-#include <algorithm>
+// Walls: a shape (walls/shape.hpp; the plane is built in) placed by an offset that a motion
+// policy drives (walls/motion.hpp). A particle touches a wall when its centre is closer to the
+// surface than its radius. The contact uses the scene's contact law with the wall as an
+// infinite-mass partner, and the opposite force is summed on the wall (a wall marked
+// frictionless uses only the law's normal part).
 #include <cmath>
-#include <numbers>
 #include <string>
 #include <string_view>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <variant>
@@ -22,80 +17,78 @@
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/walls/motion.hpp"
+#include "micromacro/walls/shape.hpp"
 
 namespace micromacro {
 
-// Each motion has a name, which state files record (a file naming a motion this build does not
-// know is refused).
-struct FixedMotion {
-    static constexpr std::string_view name = "fixed";
-};
-
-/// Eq. 17: h(t) = h0 + travel/2 (1 - cos(omega (t - start))) for 0 <= omega (t - start) <= pi,
-/// omega = 2 pi / period; fixed at h0 + travel afterwards.
-struct StrainControlled {
-    static constexpr std::string_view name = "strain-controlled";
-    double travel;          ///< distance moved along the inward normal (m); > 0 compresses
-    double period;          ///< T of Eq. 17 (s); the motion takes T/2
-    double start_time = 0;  ///< time at which the motion starts (s)
-};
-
-/// Eq. 18: the wall is a mass on a damper, pushed inward by pressure times its area.
-///
-/// Eq. 18's damper is anchored to the lab, so a wall that must keep moving (the side wall of a
-/// biaxial test moves as fast as the loaded one) feels gamma_w h' on top of p A: strong damping
-/// biases the pressure. With `follow_time` > 0 the damper's anchor instead follows the wall's
-/// velocity with that time constant: steady motion is not resisted (the bias falls to gamma_w
-/// times follow_time times the wall's acceleration), oscillations faster than 1 / follow_time
-/// are damped as by Eq. 18.
-struct StressControlled {
-    static constexpr std::string_view name = "stress-controlled";
-    double pressure;  ///< p (N/m in 2D, Pa in 3D)
-    double mass;      ///< m_w (kg)
-    double damping;   ///< gamma_w (kg/s)
-    double area = 0;  ///< A (m in 2D, m^2 in 3D); 0 = the box cross-section, measured each step
-    double follow_time = 0;   ///< s; 0 = Eq. 18 (damper anchored to the lab)
-    double anchor_speed = 0;  ///< state: the damper anchor's velocity (m/s)
-
-    /// The velocity the damper resists.
-    double damped_speed(double wall_speed) const { return follow_time > 0 ? wall_speed - anchor_speed : wall_speed; }
-};
-
-using WallMotion = std::variant<FixedMotion, StrainControlled, StressControlled>;
-
-template <int dim>
-struct Wall {
+/// One wall: its shape (the base, so that a plane wall's `normal` reads as the wall's), where the
+/// motion has put it, and the force the particles exert on it.
+template <int dim, class Shape = Plane<dim>>
+struct Wall : Shape {
     using V = Vec<dim>;
-    V normal;                     ///< unit, into the domain
-    double offset;                ///< h: the plane is {x : normal . x = h}
+    double offset = 0.0;          ///< h: the shape's translation along its direction
     WallMotion motion = FixedMotion{};
     double speed = 0.0;           ///< dh/dt
     double initial_offset = 0.0;  ///< h at time 0 (Eq. 17's reference)
     V force = V::Zero();          ///< force ON the wall from the particles, last evaluation
     bool frictionless = false;    ///< use only the normal part of the contact law on this wall
 
-    /// Signed distance of a point from the plane, positive inside the domain.
-    double distance(const V& x) const { return normal.dot(x) - offset; }
-    /// The axis this wall is perpendicular to, or -1.
-    int axis() const {
-        for (int k = 0; k < dim; ++k)
-            if (std::abs(std::abs(normal[k]) - 1.0) < 1e-14) return k;
-        return -1;
+    const Shape& shape() const { return *this; }
+    /// Where the centre x stands against the surface.
+    WallPoint<dim> nearest(const V& x) const { return Shape::nearest(x, offset); }
+    /// Signed distance of a point from the surface, positive on the particles' side.
+    double distance(const V& x) const { return nearest(x).distance; }
+    /// The velocity of every point of the surface.
+    V velocity() const { return speed * Shape::direction(); }
+    /// The particles' force on the wall along its direction, what its motion feels (< 0 when
+    /// they push it back).
+    double load() const { return force.dot(Shape::direction()); }
+    /// Coordinate of an axis-aligned plane along its axis.
+    double coordinate() const
+        requires std::is_same_v<Shape, Plane<dim>>
+    {
+        return this->normal[this->axis()] > 0 ? offset : -offset;
     }
-    /// Coordinate of an axis-aligned wall along its axis.
-    double coordinate() const { return normal[axis()] > 0 ? offset : -offset; }
 };
 
 /// No walls: a scene without them compiles no wall code.
 struct NoWalls {};
 
-template <int dim>
+/// The walls of a scene, all of one shape (the engine's `Boundary` policy; NoWalls for none).
+/// The box helpers (add_axis_aligned, add_box, affine_field, the cross-section of a
+/// stress-controlled wall, deform) are for planes.
+template <int dim, class Shape = Plane<dim>>
 class Walls {
+    static_assert(WallShape<Shape, dim>, "the wall shape does not satisfy WallShape (walls/shape.hpp)");
+
 public:
     using V = Vec<dim>;
+    using ShapeType = Shape;
+    using WallType = Wall<dim, Shape>;
+    static constexpr bool planes = std::is_same_v<Shape, Plane<dim>>;
+
+    /// A wall of the given shape at offset 0, moved by `motion`.
+    WallType& add(const Shape& shape, WallMotion motion = FixedMotion{}) {
+        const std::string wall = "wall " + std::to_string(walls_.size()) + " (" + std::string(Shape::name) + ")";
+        if (!shape.finite()) detail::throw_input_error(wall, ": its shape has a number that is not finite");
+        const double length = V(shape.direction()).norm();
+        if (!(std::abs(length - 1.0) <= 1e-12))
+            detail::throw_input_error(wall, ": its direction has length ", length, "; a shape's direction() must be a unit vector");
+        WallType w;
+        static_cast<Shape&>(w) = shape;
+        w.motion = motion;
+        bool axis_aligned_plane = false;
+        if constexpr (planes) axis_aligned_plane = w.axis() >= 0;
+        detail::validate_motion(w.motion, !axis_aligned_plane);
+        walls_.push_back(w);
+        return walls_.back();
+    }
 
     /// A plane through `point` with inward normal `normal` (normalised here).
-    Wall<dim>& add(const V& normal, const V& point, WallMotion motion = FixedMotion{}) {
+    WallType& add(const V& normal, const V& point, WallMotion motion = FixedMotion{})
+        requires planes
+    {
         const double length = normal.norm();
         if (!(length > 0.0) || !std::isfinite(length))
             detail::throw_input_error("wall ", walls_.size(), ": normal has length ", length,
@@ -104,16 +97,16 @@ public:
             if (!std::isfinite(point[k]))
                 detail::throw_input_error("wall ", walls_.size(), ": point component ", k, " = ", point[k],
                                           " is not finite");
-        Wall<dim> w{normal / length, 0.0, motion};
+        WallType& w = add(Plane<dim>{normal / length}, motion);
         w.offset = w.normal.dot(point);
         w.initial_offset = w.offset;
-        validate(w);
-        walls_.push_back(w);
-        return walls_.back();
+        return w;
     }
 
     /// A wall perpendicular to `axis` at `coordinate`; `lower` walls face +axis, upper ones -axis.
-    Wall<dim>& add_axis_aligned(int axis, bool lower, double coordinate, WallMotion motion = FixedMotion{}) {
+    WallType& add_axis_aligned(int axis, bool lower, double coordinate, WallMotion motion = FixedMotion{})
+        requires planes
+    {
         V n = V::Zero();
         n[axis] = lower ? 1.0 : -1.0;
         V p = V::Zero();
@@ -122,7 +115,9 @@ public:
     }
 
     /// The 2 dim walls of the box [lo, hi], all fixed; index 2k is the lower wall of axis k.
-    void add_box(const V& lo, const V& hi) {
+    void add_box(const V& lo, const V& hi)
+        requires planes
+    {
         for (int k = 0; k < dim; ++k) {
             add_axis_aligned(k, true, lo[k]);
             add_axis_aligned(k, false, hi[k]);
@@ -131,42 +126,48 @@ public:
 
     std::size_t size() const { return walls_.size(); }
 
-    /// The box's mean flow: along every axis bounded by a lower and an upper axis-aligned wall
+    /// The box's mean flow: along every axis bounded by a lower and an upper axis-aligned plane
     /// (the first of each found), the velocity that grows linearly from the lower wall's to the
-    /// upper wall's; zero along other axes. A packing that follows its walls affinely moves with
-    /// this field.
+    /// upper wall's; zero along other axes, and everywhere for walls of other shapes. A packing
+    /// that follows its walls affinely moves with this field.
     AffineField<dim> affine_field() const {
         AffineField<dim> field;
-        for (int k = 0; k < dim; ++k) {
-            const Wall<dim>* lower = nullptr;
-            const Wall<dim>* upper = nullptr;
-            for (const auto& w : walls_) {
-                if (w.axis() != k) continue;
-                if (w.normal[k] > 0) {
-                    if (!lower) lower = &w;
-                } else if (!upper) {
-                    upper = &w;
+        if constexpr (planes)
+            for (int k = 0; k < dim; ++k) {
+                const WallType* lower = nullptr;
+                const WallType* upper = nullptr;
+                for (const auto& w : walls_) {
+                    if (w.axis() != k) continue;
+                    if (w.normal[k] > 0) {
+                        if (!lower) lower = &w;
+                    } else if (!upper) {
+                        upper = &w;
+                    }
                 }
+                if (!lower || !upper) continue;
+                const double lo = lower->coordinate(), hi = upper->coordinate();
+                const double u_lo = lower->speed * lower->normal[k], u_hi = upper->speed * upper->normal[k];  // along +axis
+                field.origin[k] = lo;
+                field.velocity_at_origin[k] = u_lo;
+                if (hi > lo) field.gradient(k, k) = (u_hi - u_lo) / (hi - lo);
             }
-            if (!lower || !upper) continue;
-            const double lo = lower->coordinate(), hi = upper->coordinate();
-            const double u_lo = lower->speed * lower->normal[k], u_hi = upper->speed * upper->normal[k];  // along +axis
-            field.origin[k] = lo;
-            field.velocity_at_origin[k] = u_lo;
-            if (hi > lo) field.gradient(k, k) = (u_hi - u_lo) / (hi - lo);
-        }
         return field;
     }
 
     /// Maps every wall by the affine map x -> F x (planes map to planes); the mapped plane is the
-    /// new reference of Eq. 17.
+    /// new reference of Eq. 17. Walls of other shapes are refused.
     void deform(const Eigen::Matrix<double, dim, dim>& F) {
-        const Eigen::Matrix<double, dim, dim> normal_map = F.inverse().transpose();
-        for (auto& w : walls_) {
-            const V point = F * (w.offset * w.normal);
-            w.normal = (normal_map * w.normal).normalized();
-            w.offset = w.normal.dot(point);
-            w.initial_offset = w.offset;
+        if constexpr (planes) {
+            const Eigen::Matrix<double, dim, dim> normal_map = F.inverse().transpose();
+            for (auto& w : walls_) {
+                const V point = F * (w.offset * w.normal);
+                w.normal = (normal_map * w.normal).normalized();
+                w.offset = w.normal.dot(point);
+                w.initial_offset = w.offset;
+            }
+        } else if (!walls_.empty()) {
+            detail::throw_input_error("an affine deformation maps plane walls only, and this scene's walls are of shape '",
+                                      Shape::name, "'");
         }
     }
 
@@ -178,13 +179,13 @@ public:
         return e;
     }
 
-    /// Calls refuse(message parts...) for the first wall whose position or speed is not finite
-    /// (a restored state that must not run).
+    /// Calls refuse(message parts...) for the first wall whose shape, position or speed is not
+    /// finite (a restored state that must not run).
     template <class Refuse>
     void check_restored(Refuse&& refuse) const {
         for (std::size_t w = 0; w < walls_.size(); ++w)
-            if (!walls_[w].normal.allFinite() || !std::isfinite(walls_[w].offset) || !std::isfinite(walls_[w].speed))
-                refuse("wall ", w, " has a position or speed that is not finite");
+            if (!walls_[w].finite() || !std::isfinite(walls_[w].offset) || !std::isfinite(walls_[w].speed))
+                refuse("wall ", w, " has a shape, position or speed that is not finite");
     }
 
     template <class Archive>
@@ -193,7 +194,7 @@ public:
         ar.value(n);
         walls_.resize(n);
         for (auto& w : walls_) {
-            ar.value(w.normal);
+            static_cast<Shape&>(w).serialize(ar);
             ar.value(w.offset);
             ar.value(w.speed);
             ar.value(w.initial_offset);
@@ -207,52 +208,47 @@ public:
         }
     }
 
-    Wall<dim>& operator[](std::size_t w) { return walls_[w]; }
-    const Wall<dim>& operator[](std::size_t w) const { return walls_[w]; }
+    WallType& operator[](std::size_t w) { return walls_[w]; }
+    const WallType& operator[](std::size_t w) const { return walls_[w]; }
     auto begin() { return walls_.begin(); }
     auto end() { return walls_.end(); }
     auto begin() const { return walls_.begin(); }
     auto end() const { return walls_.end(); }
 
-    /// The cross-section a stress-controlled wall pushes on: its own area if given, else the
-    /// product of the box extents along the other axes (between opposite walls, or the periodic
-    /// length).
-    double area(const Wall<dim>& w, const Domain<dim>& domain) const {
+    /// The cross-section a stress-controlled wall pushes on: its own area if given, else (an
+    /// axis-aligned plane) the product of the box extents along the other axes (between opposite
+    /// walls, or the periodic length).
+    double area(const WallType& w, const Domain<dim>& domain) const {
         const auto& s = std::get<StressControlled>(w.motion);
         if (s.area > 0.0) return s.area;
-        const int a = w.axis();
         double area = 1.0;
-        for (int k = 0; k < dim; ++k) {
-            if (k == a) continue;
-            const Wall<dim>* lo = nullptr;
-            const Wall<dim>* hi = nullptr;
-            for (const auto& o : walls_)
-                if (o.axis() == k) (o.normal[k] > 0 ? lo : hi) = &o;
-            if (lo && hi) area *= hi->coordinate() - lo->coordinate();
-            else if (domain.periodic(k)) area *= domain.length(k);
-            else
-                detail::throw_input_error("stress-controlled wall: axis ", k,
-                                          " has neither two opposite walls nor periodicity, so the wall area is "
-                                          "undefined; set StressControlled::area");
+        if constexpr (planes) {
+            const int a = w.axis();
+            for (int k = 0; k < dim; ++k) {
+                if (k == a) continue;
+                const WallType* lo = nullptr;
+                const WallType* hi = nullptr;
+                for (const auto& o : walls_)
+                    if (o.axis() == k) (o.normal[k] > 0 ? lo : hi) = &o;
+                if (lo && hi) area *= hi->coordinate() - lo->coordinate();
+                else if (domain.periodic(k)) area *= domain.length(k);
+                else
+                    detail::throw_input_error("stress-controlled wall: axis ", k,
+                                              " has neither two opposite walls nor periodicity, so the wall area is "
+                                              "undefined; set StressControlled::area");
+            }
         }
         return area;
     }
 
     /// Moves every wall from time t to t + dt. Stress-controlled walls use the wall force of the
-    /// last evaluation (semi-implicit Euler: velocity first, then position).
+    /// last evaluation.
     void move(double t, double dt, const Domain<dim>& domain) {
         for (auto& w : walls_) {
-            if (auto* s = std::get_if<StrainControlled>(&w.motion)) {
-                const double omega = 2.0 * std::numbers::pi / s->period;
-                const double phase = std::clamp(omega * (t + dt - s->start_time), 0.0, std::numbers::pi);
-                w.offset = w.initial_offset + 0.5 * s->travel * (1.0 - std::cos(phase));
-                w.speed = (phase > 0.0 && phase < std::numbers::pi) ? 0.5 * s->travel * omega * std::sin(phase) : 0.0;
-            } else if (auto* p = std::get_if<StressControlled>(&w.motion)) {
-                const double push = p->pressure * area(w, domain) + w.force.dot(w.normal);
-                w.speed += dt * (push - p->damping * p->damped_speed(w.speed)) / p->mass;
-                w.offset += dt * w.speed;
-                if (p->follow_time > 0) p->anchor_speed += (w.speed - p->anchor_speed) * std::min(1.0, dt / p->follow_time);
-            }
+            if (auto* s = std::get_if<StrainControlled>(&w.motion))
+                std::tie(w.offset, w.speed) = s->at(t + dt, w.initial_offset);
+            else if (auto* p = std::get_if<StressControlled>(&w.motion))
+                p->advance(area(w, domain), w.load(), dt, w.offset, w.speed);
         }
     }
 
@@ -279,22 +275,7 @@ private:
         return out;
     }
 
-    static void validate(const Wall<dim>& w) {
-        if (const auto* s = std::get_if<StrainControlled>(&w.motion)) {
-            detail::require_positive(s->period, "StrainControlled::period", "give the period T of Eq. 17 in s");
-            if (!std::isfinite(s->travel)) detail::throw_input_error("StrainControlled::travel = ", s->travel, " is not finite");
-        } else if (const auto* p = std::get_if<StressControlled>(&w.motion)) {
-            detail::require_non_negative(p->pressure, "StressControlled::pressure", "walls cannot pull");
-            detail::require_positive(p->mass, "StressControlled::mass", "give the wall mass m_w of Eq. 18 in kg");
-            detail::require_non_negative(p->damping, "StressControlled::damping", "give gamma_w of Eq. 18 in kg/s");
-            detail::require_non_negative(p->area, "StressControlled::area", "use 0 for the box cross-section");
-            detail::require_non_negative(p->follow_time, "StressControlled::follow_time", "use 0 for Eq. 18's damper");
-            if (w.axis() < 0 && p->area == 0.0)
-                detail::throw_input_error("a stress-controlled wall that is not axis-aligned needs an explicit area");
-        }
-    }
-
-    std::vector<Wall<dim>> walls_;
+    std::vector<WallType> walls_;
 };
 
 }  // namespace micromacro
