@@ -5,14 +5,20 @@
 # falls on all cases alike instead of on the few that happened to run in it. A two-thread case's
 # speed-up is the median over the rounds of its ratio to the one-thread run of the same case in the
 # same round. Needs a build.
+# With AGAINST=COMMIT every case runs side by side with that commit's throughput (built in a
+# temporary git worktree), in alternating order within each round, and the table gives both
+# medians and the median of the rounds' ratios (> 1: this build is faster); a case the other
+# build cannot run (an option it does not have) says so. Prefix `taskset -c 1` to pin.
 #   scripts/benchmarks.sh            # about 3 minutes on 2 cores
 #   RUNS=5 scripts/benchmarks.sh     # about 2 minutes
+#   AGAINST=7f47662 RUNS=5 taskset -c 1 scripts/benchmarks.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
 tp=${BUILD_DIR:-build}/tests/benchmarks/throughput
 [ -x "$tp" ] || { echo "benchmarks.sh: no $tp; build first (scripts/setup.sh test)" >&2; exit 1; }
 repeats=${RUNS:-9}
 [[ "$repeats" =~ ^[1-9][0-9]*$ ]] || { echo "benchmarks.sh: RUNS must be a positive whole number, not '$repeats'" >&2; exit 2; }
+against=${AGAINST:-}
 # dim particles law threads [extra options]
 cases=(
   "2 1950 frictionless 1" "2 1950 frictional-no-rotation 1" "2 1950 frictional 1" "2 1950 frictional 1 --shear"
@@ -25,20 +31,57 @@ cases=(
   "3 100000 frictional 1 --precision float" "3 100000 frictional 1 --no-energy"
   "3 100000 frictional 1 --shuffle --no-auto-sort" "3 100000 frictional 1 --shuffle"
 )
-out=$(mktemp -d)
-trap 'rm -rf "$out"' EXIT
+out=$(mktemp -d) tree=""
+trap 'rm -rf "$out"; [ -z "$tree" ] || git worktree remove --force "$tree" >/dev/null 2>&1 || true' EXIT
+if [ -n "$against" ]; then
+  tree=$(mktemp -d)
+  git worktree add -q -f --detach "$tree" "$against"
+  cmake -S "$tree" -B "$tree/build" -DCMAKE_BUILD_TYPE=Release >/dev/null
+  cmake --build "$tree/build" -j2 --target throughput >/dev/null
+  other=$tree/build/tests/benchmarks/throughput
+fi
+# run_case BINARY CASE OUTPUT: one timing, appended as a JSON line ("failed" if the binary
+# refuses the case's options).
+run_case() {
+  local dim n law threads extra steps
+  read -r dim n law threads extra <<<"$2"
+  steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
+  [ "$steps" -lt 20 ] && steps=20
+  # shellcheck disable=SC2086  # extra holds several options
+  "$1" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json >>"$3" 2>/dev/null ||
+    echo failed >>"$3"
+}
 for round in $(seq "$repeats"); do
   for k in "${!cases[@]}"; do
-    read -r dim n law threads extra <<<"${cases[$k]}"
-    steps=$(( (dim == 2 ? 20000000 : 6000000) / n ))
-    [ "$steps" -lt 20 ] && steps=20
-    # shellcheck disable=SC2086  # extra holds several options
-    "$tp" --dim "$dim" --particles "$n" --law "$law" --threads "$threads" --steps "$steps" $extra --json >>"$out/$k"
+    if [ -z "$against" ]; then
+      run_case "$tp" "${cases[$k]}" "$out/$k"
+    elif (( (round + k) % 2 )); then
+      run_case "$tp" "${cases[$k]}" "$out/$k"; run_case "$other" "${cases[$k]}" "$out/other$k"
+    else
+      run_case "$other" "${cases[$k]}" "$out/other$k"; run_case "$tp" "${cases[$k]}" "$out/$k"
+    fi
   done
   echo "round $round of $repeats done" >&2
 done
 field() { grep -o "\"$1\": [0-9.e+]*" "$2" | awk '{print $2}'; }
 median() { sort -g | awk '{a[NR] = $1} END {print a[int((NR + 1) / 2)]}'; }
+if [ -n "$against" ]; then
+  echo "$tp against $against ($(git rev-parse --short "$against")), $repeats rounds, alternating"
+  echo
+  echo "| case | particles | threads | this build (particle-steps/s, median) | $against | ratio (median of rounds) |"
+  echo "|---|---|---|---|---|---|"
+  for k in "${!cases[@]}"; do
+    read -r dim n law threads extra <<<"${cases[$k]}"
+    speed() { if grep -q failed "$1"; then echo "cannot run these options"; else field particle_steps_per_second "$1" | median | awk '{printf "%.3g", $1}'; fi; }
+    ratio=""
+    grep -q failed "$out/other$k" "$out/$k" ||
+      ratio=$(paste <(field particle_steps_per_second "$out/$k") <(field particle_steps_per_second "$out/other$k") |
+        awk '{print $1 / $2}' | median | awk '{printf "%.3f", $1}')
+    printf '| %dD %s%s | %d | %d | %s | %s | %s |\n' "$dim" "$law" "${extra:+ $extra}" "$n" "$threads" "$(speed "$out/$k")" \
+      "$(speed "$out/other$k")" "$ratio"
+  done
+  exit 0
+fi
 fma=$(grep -o '"fma": [a-z]*' "$out/0" | head -1 | awk '{print $2}')
 echo "$tp, fused multiply-adds (MICROMACRO_FMA): $fma"
 echo
