@@ -34,14 +34,13 @@ struct Frictionless {
 };
 
 /// The Cundall-Strack tangential spring of Eq. 23-29, in 2D and 3D, with what its next step
-/// needs to know of the last one (see CundallStrack::force). Its vectors are stored without
-/// Eigen's 16-byte alignment: a 2D record is then 40 bytes, not 48, and the pair loop, which
-/// reads and writes one per contact, moves a sixth less history through memory.
+/// needs to know of the last one (see CundallStrack::force). A 2D record keeps Eigen's 16-byte
+/// alignment (48 bytes): packed to 40, its vectors straddle cache lines and the pair loop without
+/// energy books ran 0.88x (docs/performance.md).
 template <int dim>
 struct TangentialSpring {
-    using Stored = Eigen::Matrix<double, dim, 1, Eigen::DontAlign>;
-    Stored spring = Stored::Zero();  ///< xi of Eq. 23-28 at the last evaluation, t_n
-    Stored ahead = Stored::Zero();   ///< xi_n + dt v_{n-1/2} / 3, where the next step starts from
+    Vec<dim> spring = Vec<dim>::Zero();  ///< xi of Eq. 23-28 at the last evaluation, t_n
+    Vec<dim> ahead = Vec<dim>::Zero();   ///< xi_n + dt v_{n-1/2} / 3, where the next step starts from
     float trial = 0;                     ///< |trial force| of a sliding last evaluation (for opening_correction)
     bool sliding = false;                ///< Coulomb state, for the static/dynamic hysteresis
     bool touching = false;               ///< evaluated in contact before; false on a new contact
