@@ -3,7 +3,6 @@
 // running simulation (engine/snapshot.hpp) or built from a packing file (io/detected_contacts.hpp).
 // Averages never touch the engine, so a packing made by any code can be analysed the same way.
 #include <algorithm>
-#include <cmath>
 #include <limits>
 #include <optional>
 #include <vector>
@@ -38,11 +37,7 @@ struct WallRecord {
     Vec<dim> normal;  ///< into the domain
     double offset;    ///< plane normal . x = offset
     Vec<dim> force;   ///< on the wall from the particles
-    int axis() const {
-        for (int a = 0; a < dim; ++a)
-            if (std::abs(std::abs(normal[a]) - 1.0) < 1e-14) return a;
-        return -1;
-    }
+    int axis() const { return aligned_axis<dim>(normal); }
     double coordinate() const { return normal[axis()] > 0 ? offset : -offset; }
 };
 

@@ -6,6 +6,7 @@
 // 3-vectors for the rotational quantities.
 #include <Eigen/Core>
 #include <Eigen/Geometry>  // cross product
+#include <cmath>
 #include <concepts>
 #include <type_traits>
 #include <numbers>
@@ -68,6 +69,15 @@ template <int dim, class Real = double>
 Angular<dim, Real> zero_angular() {
     if constexpr (dim == 2) return Real(0);
     else return Angular<dim, Real>::Zero();
+}
+
+/// The axis a unit vector lies along (either sense), or -1: which box axis a plane with this
+/// normal is perpendicular to.
+template <int dim>
+int aligned_axis(const Vec<dim>& unit) {
+    for (int k = 0; k < dim; ++k)
+        if (std::abs(std::abs(unit[k]) - 1.0) < 1e-14) return k;
+    return -1;
 }
 
 /// Converts a stored value (scalar or Eigen vector) to precision `To`; free when it already is.

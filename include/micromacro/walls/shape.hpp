@@ -12,9 +12,7 @@
 //   template <class Archive> void serialize(Archive& ar);   its numbers, as ar.value(...)
 // A particle touches the wall when its distance is below its radius; the contact law sees the
 // wall as a partner of infinite radius and mass, with the normal given here.
-#include <cmath>
 #include <concepts>
-#include <cstdlib>
 #include <string_view>
 
 #include "micromacro/core/dim_traits.hpp"
@@ -47,11 +45,7 @@ struct Plane {
     const Vec<dim>& direction() const { return normal; }
     bool finite() const { return normal.allFinite(); }
     /// The axis this plane is perpendicular to, or -1.
-    int axis() const {
-        for (int k = 0; k < dim; ++k)
-            if (std::abs(std::abs(normal[k]) - 1.0) < 1e-14) return k;
-        return -1;
-    }
+    int axis() const { return aligned_axis<dim>(normal); }
     template <class Archive>
     void serialize(Archive& ar) {
         ar.value(normal);

@@ -34,7 +34,6 @@ struct Wall : Shape {
     V force = V::Zero();          ///< force ON the wall from the particles, last evaluation
     bool frictionless = false;    ///< use only the normal part of the contact law on this wall
 
-    const Shape& shape() const { return *this; }
     /// Where the centre x stands against the surface.
     WallPoint<dim> nearest(const V& x) const { return Shape::nearest(x, offset); }
     /// Signed distance of a point from the surface, positive on the particles' side.
