@@ -35,8 +35,9 @@ template <bool track, int dim, class Law, class History>
 MICROMACRO_INLINE ContactResponse<dim> respond(const Law& law, const ContactKinematics<dim>& c, History& h, EnergyBooks& books,
                                                bool smooth = false) {
     const ContactForce<dim> f = evaluate<track>(law, c, h, smooth);
-    if constexpr (track) books.dissipated_normal -= f.normal.viscous * c.normal_velocity * c.dt;
-    ContactResponse<dim> out{f.normal.total() * c.normal, Vec<dim>::Zero(), f.normal.total()};
+    const double viscous = f.normal.viscous, normal = f.normal.elastic + viscous;
+    if constexpr (track) books.dissipated_normal -= viscous * c.normal_velocity * c.dt;
+    ContactResponse<dim> out{normal * c.normal, Vec<dim>::Zero(), normal};
     if constexpr (Law::has_tangential) {
         if (smooth) return out;
         if constexpr (track) {
