@@ -8,13 +8,8 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 phases=${PHASES:-16}
 [[ "$phases" =~ ^[1-9][0-9]*$ ]] || { echo "oblique_impacts_lammps.sh: PHASES must be a positive whole number, not '$phases'" >&2; exit 2; }
-if ! command -v lmp >/dev/null; then
-  sudo=""; [ "$(id -u)" -eq 0 ] || sudo="sudo"
-  echo "installing Debian's lammps" >&2
-  $sudo apt-get update -qq && DEBIAN_FRONTEND=noninteractive $sudo apt-get install -y -qq --no-install-recommends lammps >&2
-fi
-# LAMMPS is an MPI program; as root OpenMPI needs these to start at all.
-export OMPI_ALLOW_RUN_AS_ROOT=1 OMPI_ALLOW_RUN_AS_ROOT_CONFIRM=1
+# shellcheck source=scripts/lammps/environment.sh
+source scripts/lammps/environment.sh
 deck=scripts/lammps/oblique_impact.in
 a=1e-3 m=8.377580409572781e-06 k=1e5
 tc=$(awk -v m=$m -v k=$k 'BEGIN { printf "%.17g", 3.141592653589793 / sqrt(k / (m / 2)) }')

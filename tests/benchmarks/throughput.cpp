@@ -24,6 +24,7 @@
 #include <sys/resource.h>
 
 #include <chrono>
+#include <filesystem>
 #include <cmath>
 #include <cstdio>
 #include <algorithm>
@@ -37,6 +38,7 @@
 #include <nlohmann/json.hpp>
 
 #include <micromacro/io/packing_files.hpp>
+#include <micromacro/io/packing_writer.hpp>
 #include <micromacro/micromacro.hpp>
 
 #include "../../examples/command_line.hpp"
@@ -63,6 +65,7 @@ struct Options {
     std::string precision = "double";
     bool track_energy = true;
     bool shuffle = false, sort = false, auto_sort = true;
+    std::string write_packing;  // a LAMMPS dump of the packing as timed (scripts/vs_lammps.sh hands it to LAMMPS)
 };
 
 double peak_rss_bytes() {
@@ -129,6 +132,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
         x.swap(xs);
         r.swap(rs);
     }
+    if (!o.write_packing.empty()) mm::io::write_lammps_dump<dim>(o.write_packing, x, r, domain);
     // Two particles of the mean radius set t_c (Eq. 22), as in the paper and the biaxial example.
     const double mean_radius = std::accumulate(r.begin(), r.end(), 0.0) / double(r.size());
     const double mean_mass = mm::sphere_mass(o.density, mean_radius);
@@ -272,9 +276,13 @@ int main(int argc, char** argv) {
     app.add_option("--precision", o.precision, "storage precision of the particle state: double or float")
         ->check(CLI::IsMember({"double", "float"}))
         ->capture_default_str();
+    app.add_option("--write-packing", o.write_packing,
+                   "also write the packing as timed (after --shuffle) as a LAMMPS dump to this new file, e.g. for LAMMPS");
     app.add_flag("--json", o.json, "one JSON line instead of text");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
+        if (!o.write_packing.empty() && std::filesystem::exists(o.write_packing))
+            mm::detail::throw_input_error("--write-packing ", o.write_packing, " exists; give a new file name");
         if (!o.packing.empty()) {
             o.format = mm::io::guess_format(o.packing);
             if (dim->count() == 0) o.dim = mm::io::guess_dimension(o.packing, o.format);

@@ -37,6 +37,7 @@ std::map<std::string, Expectation> expectations() {
         {"01_two_particles", {"notanumber", 2}},
         {"02_custom_contact_law", {"notanumber", 2}},
         {"throughput", {"--packing " + missing + "/packing.csv"}},
+        {"random_packing", {"--particles 20 --out " + missing + "/packing.dump"}},  // reads no file: an unwritable output
         {"render_snapshot", {missing + "/particles_0.vtp -o " + (work / "picture.png").string()}},
         {"plot_timeseries", {missing + "/timeseries.csv --out " + (work / "plots").string()}},
     };

@@ -145,6 +145,22 @@ BOOST_AUTO_TEST_CASE(a_lammps_dump_gives_box_and_periodic_axes_and_agrees_with_t
 }
 
 // The JSON line stays JSON whatever the file is called.
+// --write-packing: the generated lattice, written as a dump (2D without a z column) and timed
+// from the file, is the same scene: dimension, periodic axes, contacts and time step.
+BOOST_AUTO_TEST_CASE(a_written_packing_times_as_the_generated_one) {
+    for (int dim : {2, 3}) {
+        const std::string file = (work / ("written" + std::to_string(dim) + ".dump")).string();
+        const std::string lattice = "--dim " + std::to_string(dim) + " --particles " + (dim == 2 ? "36" : "64") + " --steps 3";
+        const auto made = run_json(lattice + " --write-packing " + file);
+        const auto read = run_json("--packing " + file + " --steps 3");
+        for (const char* key : {"dim", "particles", "contacts", "dt", "contact_duration", "skin", "periodic"})
+            BOOST_TEST(made[key] == read[key], key);
+        const auto again = run(lattice + " --write-packing " + file);  // an existing file is not replaced
+        BOOST_TEST(again.exit_code() == 1);
+        BOOST_TEST(again.err.find("--write-packing") != std::string::npos, again.err);
+    }
+}
+
 BOOST_AUTO_TEST_CASE(file_names_are_escaped_in_the_json_line) {
     const Lattice lattice{2, 3, 1e-3};
     const std::string file = lattice.csv("odd \"name\" \\ here.csv");

@@ -1,12 +1,17 @@
 // Reading a packing file's format, dimension, box and periodic axes (io/packing_files.hpp): the
-// one place the programs that take a packing file (analyze_packing, throughput) settle them.
+// one place the programs that take a packing file (analyze_packing, throughput) settle them; and
+// the LAMMPS dump the writer makes (io/packing_writer.hpp) reads back to the last digit.
 #define BOOST_TEST_MODULE unit_packing_input
 #include <boost/test/unit_test.hpp>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <vector>
 
 #include <micromacro/io/packing_files.hpp>
+#include <micromacro/io/packing_writer.hpp>
 
 #include "support/programs.hpp"
 
@@ -85,3 +90,37 @@ BOOST_AUTO_TEST_CASE(box_from_the_option_the_file_or_the_extent, *boost::unit_te
     d = io::packing_domain<2>(f, {}, "z");
     BOOST_TEST((!d.periodic(0) && d.periodic(1)));
 }
+
+template <int dim>
+void round_trip() {
+    std::vector<mm::Vec<dim>> x(3);
+    const std::vector<double> r{1e-3 / 3.0, 0.7e-3, 1.1e-3 + 1e-19};
+    for (std::size_t p = 0; p < x.size(); ++p)
+        for (int a = 0; a < dim; ++a) x[p][a] = 0.1 / 7.0 * double(p + 1) + 1e-3 * std::sqrt(double(a + 2));
+    std::array<bool, dim> periodic{};
+    periodic[0] = true;  // one periodic axis, the others bounded: both flags written
+    const mm::Domain<dim> box(mm::Vec<dim>::Constant(-0.01 / 3.0), mm::Vec<dim>::Constant(0.2 + 1.0 / 3.0), periodic);
+    const fs::path path = fs::temp_directory_path() / "micromacro_packing_input_test" / ("written" + std::to_string(dim) + ".dump");
+    fs::create_directories(path.parent_path());
+    io::write_lammps_dump<dim>(path, x, r, box);
+    BOOST_TEST(!fs::exists(path.string() + ".partial"));
+    BOOST_TEST((io::guess_format(path.string()) == io::PackingFormat::lammps_dump));
+    BOOST_TEST(io::guess_dimension(path.string(), io::PackingFormat::lammps_dump) == dim);  // 2D written without z
+    const auto f = io::read_packing<dim>(path.string(), io::PackingFormat::lammps_dump);
+    BOOST_TEST_REQUIRE(f.position.size() == x.size());
+    for (std::size_t p = 0; p < x.size(); ++p) {
+        BOOST_TEST(f.radius[p] == r[p]);
+        for (int a = 0; a < dim; ++a) BOOST_TEST(f.position[p][a] == x[p][a]);
+    }
+    const mm::Domain<dim> read = io::packing_domain<dim>(f, {}, "");
+    for (int a = 0; a < dim; ++a) {
+        BOOST_TEST(read.lo()[a] == box.lo()[a]);
+        BOOST_TEST(read.hi()[a] == box.hi()[a]);
+        BOOST_TEST(read.periodic(a) == periodic[a]);
+    }
+    BOOST_CHECK_THROW(io::write_lammps_dump<dim>(path, x, std::vector<double>(2, 1e-3), box), mm::InputError);
+    BOOST_CHECK_THROW(io::write_lammps_dump<dim>("/nonexistent_micromacro_folder/p.dump", x, r, box), mm::InputError);
+}
+
+BOOST_AUTO_TEST_CASE(a_written_dump_reads_back_to_the_last_digit_2d) { round_trip<2>(); }
+BOOST_AUTO_TEST_CASE(a_written_dump_reads_back_to_the_last_digit_3d) { round_trip<3>(); }

@@ -10,7 +10,7 @@
 // periodic axis) and ITEM: ATOMS with x y z and radius or diameter (2D uses x and y).
 // `read_packing` reads either, `packing_domain` settles the box: the programs that take a
 // packing file (analyze_packing, the throughput benchmark) resolve format, dimension, box and
-// periodic axes here, the same way.
+// periodic axes here, the same way. io/packing_writer.hpp writes the LAMMPS form.
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -299,12 +299,21 @@ inline PackingFormat guess_format(const std::string& path) {
     return first.rfind("ITEM:", 0) == 0 ? PackingFormat::lammps_dump : PackingFormat::csv;
 }
 
-/// The dimension a packing file describes: 3 for a LAMMPS dump, and for a CSV file 3 if its
-/// header names a y column, else 2 (2D uses the paper's x and z).
+/// The dimension a packing file describes: for a LAMMPS dump 3 unless its ITEM: ATOMS line names
+/// no z column (a 2D dump written without z); for a CSV file 3 if its header names a y column,
+/// else 2 (2D uses the paper's x and z).
 inline int guess_dimension(const std::string& path, PackingFormat format) {
-    if (format == PackingFormat::lammps_dump) return 3;
     auto in = detail::open(path);
     std::string line;
+    if (format == PackingFormat::lammps_dump) {
+        while (std::getline(in, line)) {
+            if (!line.empty() && line.back() == '\r') line.pop_back();
+            if (line.rfind("ITEM: ATOMS", 0) != 0) continue;
+            const auto names = detail::split(line.substr(11), ' ');
+            return std::find(names.begin(), names.end(), "z") == names.end() ? 2 : 3;
+        }
+        return 3;
+    }
     while (std::getline(in, line)) {
         if (line.empty() || line[0] == '#' || line.find_first_not_of(" \t\r") == std::string::npos) continue;
         for (const auto& name : detail::split(line, ','))

@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "micromacro/core/error.hpp"
+#include "micromacro/io/whole_file.hpp"
 
 namespace micromacro::io {
 
@@ -149,10 +150,7 @@ std::string signature() {
 /// as a state of the given kind (a word load_state can insist on, e.g. "prepared", "checkpoint").
 template <class Sim>
 void save_state(Sim& sim, const std::filesystem::path& path, std::string extra = {}, std::string kind = "state") {
-    const std::filesystem::path partial = path.string() + ".partial";
-    {
-        std::ofstream out(partial, std::ios::binary);
-        if (!out) micromacro::detail::throw_input_error("cannot write ", partial.string(), "; check the directory");
+    detail::write_whole_file(path, std::ios::binary, [&](std::ofstream& out) {
         detail::StateWriter w(out);
         w.raw_bytes(detail::state_magic, sizeof detail::state_magic);
         std::uint32_t version = detail::state_version;
@@ -167,14 +165,7 @@ void save_state(Sim& sim, const std::filesystem::path& path, std::string extra =
         sim.serialize(w);
         std::uint64_t checksum = w.checksum();
         out.write(reinterpret_cast<const char*>(&checksum), sizeof checksum);
-        out.flush();
-        if (!out) {
-            out.close();
-            std::filesystem::remove(partial);
-            micromacro::detail::throw_input_error("cannot write ", partial.string(), " (disk full?)");
-        }
-    }
-    std::filesystem::rename(partial, path);
+    });
 }
 
 namespace detail {

@@ -1,0 +1,32 @@
+#pragma once
+// Writing a file whole or not at all: the content goes to `path`.partial, which is renamed to
+// `path` only when every byte was written; a failed write removes it and throws, and an earlier
+// file at `path` stays as it was until the rename. The state files and the packing dumps use it.
+#include <filesystem>
+#include <fstream>
+#include <system_error>
+
+#include "micromacro/core/error.hpp"
+
+namespace micromacro::io::detail {
+
+/// Calls write(stream) on a stream to `path`.partial opened with `mode`, then renames it to `path`.
+template <class Write>
+void write_whole_file(const std::filesystem::path& path, std::ios::openmode mode, Write&& write) {
+    const std::filesystem::path partial = path.string() + ".partial";
+    {
+        std::ofstream out(partial, mode);
+        if (!out) micromacro::detail::throw_input_error("cannot write ", partial.string(), "; check the directory");
+        write(out);
+        out.flush();
+        if (!out) {
+            out.close();
+            std::error_code ignored;
+            std::filesystem::remove(partial, ignored);
+            micromacro::detail::throw_input_error("cannot write ", partial.string(), " (disk full?)");
+        }
+    }
+    std::filesystem::rename(partial, path);
+}
+
+}  // namespace micromacro::io::detail
