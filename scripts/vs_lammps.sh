@@ -2,9 +2,10 @@
 # micromacro against LAMMPS on the same packing files, side by side in one run: the throughput
 # benchmark (build/tests/benchmarks/throughput --packing) and LAMMPS (scripts/lammps/throughput.in:
 # gran/hooke/history, nve/sphere) time the same particles, law (k = 1e5, k_t = 2e4 N/m, mu = 0.5,
-# no dashpots), time step, skin and number of steps, alternating within each round; the table gives
+# no dashpots), time step, skin and number of steps, alternating within each round; micromacro runs
+# without its energy books (--no-energy: LAMMPS keeps none; they cost about 5%). The table gives
 # each program's median particle-steps per second and the median of the rounds' ratios. Prints
-# Markdown (docs/performance.md carries it).
+# Markdown: docs/vs-lammps.md is its output.
 #
 # Packings (made once, kept in BUILD_DIR/vs_lammps): dense random polydisperse ones, radii 0.5-1.5 mm,
 # prepared by the project's own preparation (examples/random_packing, a periodic box compressed to
@@ -13,7 +14,7 @@
 # two MPI ranks of LAMMPS (Debian's LAMMPS has no OPENMP package; MPI domain decomposition is how it
 # runs in parallel).
 #
-#   scripts/vs_lammps.sh                 # 3 rounds, about 10 minutes on 2 cores (packings: 3 more, once)
+#   scripts/vs_lammps.sh > docs/vs-lammps.md   # 3 rounds, about 10 minutes on 2 cores (packings: 5 more, once)
 #   RUNS=5 scripts/vs_lammps.sh
 #   NATIVE=1 scripts/vs_lammps.sh        # also a LAMMPS built -O3 -march=native from Debian's source
 #                                        # (downloaded and built once into ~/.cache, about 15 minutes)
@@ -93,7 +94,7 @@ total_mass() {
 # micromacro DUMP DIM THREADS STEPS -> its JSON line
 micromacro() {
   "$tp" --packing "$1" --dim "$2" --threads "$3" --steps "$4" --k $k --kt $kt --mu $mu --gamma-n 0 --gamma-t 0 \
-    --density $density --json
+    --density $density --no-energy --json
 }
 # lammps BINARY RANKS DATA DIM DT SKIN STEPS -> "particle-steps/s total-mass"
 lammps() {
@@ -116,11 +117,13 @@ help=$(lmp -h 2>/dev/null || true)
 version=$(awk -F' - ' '/^Large-scale Atomic/ { print $2; exit }' <<<"$help")
 echo "# micromacro and LAMMPS side by side"
 echo
-echo "Made by \`scripts/vs_lammps.sh\` (RUNS=$rounds${native:+, NATIVE=1}) on $(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo),"
+echo "Made by \`${native:+NATIVE=1 }RUNS=$rounds scripts/vs_lammps.sh > docs/vs-lammps.md\` on $(awk -F': ' '/model name/ { print $2; exit }' /proc/cpuinfo),"
 echo "$(nproc) cores; LAMMPS ${version:-(version unknown)} from Debian${native:+ and the same source built -O3 -march=native}."
 echo "Each program's median particle-steps per second over $rounds rounds, the two run alternately within a"
-echo "round, and the median of the rounds' ratios (micromacro / LAMMPS). Two threads: micromacro's threads"
-echo "against two MPI ranks of LAMMPS."
+echo "round, and the median of the rounds' ratios (micromacro / LAMMPS). The same law (k = 1e5 N/m, k_t = 2e4 N/m,"
+echo "mu = 0.5, no dashpots), time step (t_c/50 of two mean particles), skin (a fifth of the mean radius) and steps;"
+echo "micromacro without its energy books (\`--no-energy\`), as LAMMPS keeps none. Two threads: micromacro's"
+echo "threads against two MPI ranks of LAMMPS."
 echo
 header="| packing | particles | contacts per particle | threads | micromacro | LAMMPS (Debian) | ratio |"
 rule="|---|---|---|---|---|---|---|"
