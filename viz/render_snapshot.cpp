@@ -1,12 +1,17 @@
 // render_snapshot: a picture like the paper's Fig. 3 from a particles .vtp (or one step of a
 // .pvd): filled disks at their true radius (spheres in 3D) coloured by potential energy (red and
 // green high, through blue to black low), a colour bar, the walls, optionally the force network.
+// The colour scale is the frame's own extent, or one for a whole series (--range MIN MAX, or
+// --range-from SERIES.pvd: up to its 99th percentile), so that frames compare by colour; --log.
 //
 //   xvfb-run -a -s "-screen 0 1280x1024x24" render_snapshot vtk/particles.pvd --step -1
 //       --walls vtk/walls_10.vtp --contacts vtk/contacts_10.vtp -o snapshot.png   (one line)
 //
 // VTK 9.1 from Debian renders only through an X server: on a machine without a display run it
 // under xvfb-run as above (Mesa software rendering, well under a second a frame).
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -49,22 +54,28 @@ namespace fs = std::filesystem;
 namespace {
 using viz::fail;
 
+/// The data sets a .pvd collection lists, in order, as paths next to it.
+std::vector<fs::path> collection(const fs::path& pvd) {
+    std::ifstream in(pvd);
+    if (!in) fail("cannot open " + pvd.string());
+    const std::string text((std::istreambuf_iterator<char>(in)), {});
+    std::vector<fs::path> files;
+    const std::regex file_attr("file=\"([^\"]+)\"");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), file_attr); it != std::sregex_iterator(); ++it)
+        files.push_back(pvd.parent_path() / std::string((*it)[1]));
+    if (text.find("</VTKFile>") == std::string::npos) fail(pvd.string() + " is truncated (no closing </VTKFile>)");
+    if (files.empty()) fail(pvd.string() + " lists no data sets");
+    return files;
+}
+
 /// The file of step `step` (negative: from the end) of a .pvd collection, or the file itself.
 fs::path resolve(const fs::path& input, int step) {
     if (input.extension() != ".pvd") return input;
-    std::ifstream in(input);
-    if (!in) fail("cannot open " + input.string());
-    const std::string text((std::istreambuf_iterator<char>(in)), {});
-    std::vector<std::string> files;
-    const std::regex file_attr("file=\"([^\"]+)\"");
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), file_attr); it != std::sregex_iterator(); ++it)
-        files.push_back((*it)[1]);
-    if (text.find("</VTKFile>") == std::string::npos) fail(input.string() + " is truncated (no closing </VTKFile>)");
-    if (files.empty()) fail(input.string() + " lists no data sets");
+    const std::vector<fs::path> files = collection(input);
     const int n = static_cast<int>(files.size());
     const int index = step < 0 ? n + step : step;
     if (index < 0 || index >= n) fail("--step " + std::to_string(step) + " is outside the " + std::to_string(n) + " steps of " + input.string());
-    return input.parent_path() / files[static_cast<std::size_t>(index)];
+    return files[static_cast<std::size_t>(index)];
 }
 
 /// A .vtp file; `need_points`: refuse one without points (a particles file must have some).
@@ -104,9 +115,10 @@ vtkSmartPointer<vtkActor> overlay(vtkRenderer* renderer, vtkPolyData* data, doub
 }  // namespace
 
 int main(int argc, char** argv) {
-    std::string input, walls, contacts, output = "snapshot.png", size = "1000x800";
+    std::string input, walls, contacts, output = "snapshot.png", size = "1000x800", range_from;
+    std::vector<double> fixed_range;
     int step = -1;
-    bool three_d = false;
+    bool three_d = false, log_scale = false;
     CLI::App app{"Render particles coloured by potential energy (the paper's Fig. 3) to a PNG, off-screen. "
                  "Needs an X server: run under xvfb-run -a -s \"-screen 0 1280x1024x24\" on a machine without a display."};
     app.add_option("input", input, "particles .vtp, or a .pvd collection (see --step)")->required();
@@ -116,9 +128,18 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "PNG file to write")->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT in pixels")->capture_default_str();
     app.add_flag("--3d", three_d, "draw spheres with lighting (default: flat disks in the plane z = 0)");
+    auto* range_option = app.add_option("--range", fixed_range, "colour scale MIN MAX in J (default: this frame's extent)")->expected(2);
+    app.add_option("--range-from", range_from,
+                   "one colour scale for every frame of this .pvd series: its smallest value (with --log the 1st percentile "
+                   "of the positive ones) to its 99th percentile; values beyond take the end colours, and the colour bar "
+                   "says how many")
+        ->excludes(range_option);
+    app.add_flag("--log", log_scale, "logarithmic colour scale");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         const auto [width, height] = viz::parse_size(size);
+        if (!fixed_range.empty() && !(std::isfinite(fixed_range[0]) && std::isfinite(fixed_range[1]) && fixed_range[1] > fixed_range[0]))
+            fail("--range " + std::to_string(fixed_range[0]) + " " + std::to_string(fixed_range[1]) + ": give MIN < MAX, both finite");
         const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
         if (!fs::is_directory(out_dir)) fail("cannot write " + output + ": the directory " + out_dir.string() + " does not exist");
 
@@ -127,15 +148,51 @@ int main(int argc, char** argv) {
         auto* radius = particles->GetPointData()->GetArray("radius");
         if (!energy || !radius) fail(input + " has no potential_energy or radius array");
         viz::require_display("render_snapshot");  // after the input: a bad file is said first
-        double range[2];
-        energy->GetRange(range);
-        if (range[1] <= range[0]) range[1] = range[0] + 1e-300;
+        // The colour scale: given, from a series, or this frame's own extent.
+        std::array<double, 2> range;
+        std::string scale_source = "this frame";
+        if (!fixed_range.empty()) {
+            range = {fixed_range[0], fixed_range[1]};
+            scale_source = "--range";
+        } else if (!range_from.empty()) {
+            std::vector<double> all;
+            const auto frames = collection(range_from);
+            for (const auto& file : frames) {
+                const auto frame = read(file);
+                auto* values = frame->GetPointData()->GetArray("potential_energy");
+                if (!values) fail(file.string() + " has no potential_energy array");
+                for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i) all.push_back(values->GetTuple1(i));
+            }
+            range = viz::series_range(std::move(all), log_scale);
+            scale_source = std::to_string(frames.size()) + " frames of " + range_from;
+        } else {
+            std::vector<double> own(static_cast<std::size_t>(energy->GetNumberOfTuples()));
+            for (vtkIdType i = 0; i < energy->GetNumberOfTuples(); ++i) own[static_cast<std::size_t>(i)] = energy->GetTuple1(i);
+            if (log_scale) own.erase(std::remove_if(own.begin(), own.end(), [](double x) { return !(x > 0.0); }), own.end());
+            range = own.empty() ? std::array<double, 2>{0.0, 0.0}
+                                : std::array<double, 2>{*std::min_element(own.begin(), own.end()), *std::max_element(own.begin(), own.end())};
+        }
+        if (log_scale && !(range[0] > 0.0))
+            fail("--log needs a scale above zero, and " + scale_source + " gives " + std::to_string(range[0]) +
+                 "; give --range with MIN > 0 or drop --log");
+        if (!(range[1] > range[0])) range[1] = log_scale ? range[0] * (1.0 + 1e-9) : range[0] + std::max(1e-300, 1e-9 * std::abs(range[0]));
+        // Values beyond the scale take its end colours; how many, the colour bar says.
+        std::size_t above = 0, below = 0;
+        for (vtkIdType i = 0; i < energy->GetNumberOfTuples(); ++i) {
+            const double e = energy->GetTuple1(i);
+            above += e > range[1];
+            below += e < range[0];
+        }
+        const double n_values = static_cast<double>(energy->GetNumberOfTuples());
 
         vtkNew<vtkColorTransferFunction> colours;
+        if (log_scale) colours->SetScaleToLog10();
         for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
             const auto c = viz::energy_colour(u);
-            colours->AddRGBPoint(range[0] + u * (range[1] - range[0]), c[0], c[1], c[2]);
+            const double at = log_scale ? range[0] * std::pow(range[1] / range[0], u) : range[0] + u * (range[1] - range[0]);
+            colours->AddRGBPoint(at, c[0], c[1], c[2]);
         }
+        colours->ClampingOn();
         vtkNew<vtkGlyph3DMapper> glyphs;
         glyphs->SetInputData(particles);
         vtkNew<vtkRegularPolygonSource> disk;
@@ -152,7 +209,7 @@ int main(int argc, char** argv) {
         glyphs->SetScalarModeToUsePointFieldData();
         glyphs->SelectColorArray("potential_energy");
         glyphs->SetLookupTable(colours);
-        glyphs->SetScalarRange(range);
+        glyphs->SetScalarRange(range.data());
         glyphs->ScalarVisibilityOn();
         vtkNew<vtkActor> actor;
         actor->SetMapper(glyphs);
@@ -179,9 +236,27 @@ int main(int argc, char** argv) {
             actor->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
         }
 
+        // A logarithmic scale's bar shows log10 of the energy on a linear axis (VTK's bar samples a
+        // log colour function linearly).
+        vtkNew<vtkColorTransferFunction> bar_colours;
+        for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
+            const auto c = viz::energy_colour(u);
+            const double lo = log_scale ? std::log10(range[0]) : range[0], hi = log_scale ? std::log10(range[1]) : range[1];
+            bar_colours->AddRGBPoint(lo + u * (hi - lo), c[0], c[1], c[2]);
+        }
         vtkNew<vtkScalarBarActor> bar;
-        bar->SetLookupTable(colours);
-        bar->SetTitle("potential energy (J)");
+        bar->SetLookupTable(bar_colours);
+        std::string title = log_scale ? "log10 potential energy (J)" : "potential energy (J)";
+        char share[64];
+        if (above > 0) {
+            std::snprintf(share, sizeof share, "\n%.1f%% above: red", 100.0 * above / n_values);
+            title += share;
+        }
+        if (below > 0) {
+            std::snprintf(share, sizeof share, "\n%.1f%% below: black", 100.0 * below / n_values);
+            title += share;
+        }
+        bar->SetTitle(title.c_str());
         bar->SetNumberOfLabels(5);
         bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
         bar->GetPositionCoordinate()->SetValue(0.87, 0.1);
@@ -204,8 +279,10 @@ int main(int argc, char** argv) {
         window->SetSize(width, height);
         window->AddRenderer(renderer);
         viz::write_png(window, output);
-        std::printf("render_snapshot: %s (%dx%d, %lld particles, energy %g..%g J)\n", output.c_str(), width, height,
-                    static_cast<long long>(particles->GetNumberOfPoints()), range[0], range[1]);
+        std::printf("render_snapshot: %s (%dx%d, %lld particles, colour scale %g..%g J%s from %s; %.1f%% of this frame above it, "
+                    "%.1f%% below)\n",
+                    output.c_str(), width, height, static_cast<long long>(particles->GetNumberOfPoints()), range[0], range[1],
+                    log_scale ? ", logarithmic," : "", scale_source.c_str(), 100.0 * above / n_values, 100.0 * below / n_values);
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "render_snapshot: %s\n", e.what());

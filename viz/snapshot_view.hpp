@@ -1,9 +1,11 @@
 #pragma once
-// What render_snapshot draws where, shared with its test: the paper's colour map (Fig. 3) and the
-// mapping from world coordinates to image pixels.
+// What render_snapshot draws where, shared with its test: the paper's colour map (Fig. 3), the
+// colour scale of a series of frames, and the mapping from world coordinates to image pixels.
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
+#include <vector>
 
 namespace viz {
 
@@ -20,6 +22,26 @@ inline std::array<double, 3> energy_colour(double u) {
 }
 
 inline constexpr std::array<double, 3> background = {1.0, 1.0, 1.0};
+
+/// The value below which a share q (0..1) of `v` lies (the element at floor(q (n - 1)) in sorted
+/// order); `v` is reordered. Needs a non-empty `v`.
+inline double quantile(std::vector<double>& v, double q) {
+    const auto k = static_cast<std::ptrdiff_t>(std::floor(q * double(v.size() - 1)));
+    std::nth_element(v.begin(), v.begin() + k, v.end());
+    return v[static_cast<std::size_t>(k)];
+}
+
+/// One colour scale for every frame of a series, from all their values: the smallest value to the
+/// 99th percentile, so that a few highly loaded particles neither darken the rest nor move the
+/// scale from frame to frame. With `log`, from the 1st percentile of the positive values (a
+/// logarithmic scale has no zero). {0, 0} when there is nothing to scale (no values; with `log`,
+/// none positive).
+inline std::array<double, 2> series_range(std::vector<double> values, bool log) {
+    if (log) values.erase(std::remove_if(values.begin(), values.end(), [](double x) { return !(x > 0.0); }), values.end());
+    if (values.empty()) return {0.0, 0.0};
+    const double lo = log ? quantile(values, 0.01) : *std::min_element(values.begin(), values.end());
+    return {lo, quantile(values, 0.99)};
+}
 
 /// The view: the box [lo, hi] (x, y of the image plane) fills the left 85% of the image (the
 /// colour bar takes the rest) with a 5% margin on its tighter side.

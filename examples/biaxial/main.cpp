@@ -120,8 +120,9 @@ fs::path sibling_program(const std::string& name) {
     return {};
 }
 
-/// Snapshots (like Fig. 3) of a few VTK frames and the plots of Fig. 4-5, when an X display (real
-/// or Xvfb) is available; otherwise the commands that make them later.
+/// Snapshots (like Fig. 3) of a few VTK frames, all on the colour scale of the whole series, and
+/// the plots of Fig. 4-5: through the X display, or through Xvfb (xvfb-run) when there is none;
+/// without either, the commands that make them later.
 void make_pictures(const fs::path& out, std::size_t frames, int dim) {
     const fs::path render = sibling_program("render_snapshot"), plot = sibling_program("plot_timeseries");
     const std::string xvfb = "xvfb-run -a -s \"-screen 0 1280x1024x24\" ";
@@ -136,24 +137,26 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
         }
         for (const std::size_t f : picked) {
             const std::string k = std::to_string(f);
-            commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --walls " +
-                               (out / "vtk" / ("walls_" + k + ".vtp")).string() + " --contacts " +
-                               (out / "vtk" / ("contacts_" + k + ".vtp")).string() + (dim == 3 ? " --3d" : "") + " -o " +
-                               (out / "snapshots" / ("snapshot_" + k + ".png")).string());
+            commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --range-from " +
+                               (out / "vtk" / "particles.pvd").string() + " --walls " + (out / "vtk" / ("walls_" + k + ".vtp")).string() +
+                               " --contacts " + (out / "vtk" / ("contacts_" + k + ".vtp")).string() + (dim == 3 ? " --3d" : "") +
+                               " -o " + (out / "snapshots" / ("snapshot_" + k + ".png")).string());
         }
     }
     if (commands.empty()) return;
     const char* display = std::getenv("DISPLAY");
-    if (!display || !*display) {
-        std::printf("no display: make the snapshots and plots later with\n");
+    const bool has_display = display && *display;
+    const bool has_xvfb = !has_display && std::system("command -v xvfb-run > /dev/null 2>&1") == 0;
+    if (!has_display && !has_xvfb) {
+        std::printf("no display and no xvfb-run (Debian's xvfb): make the snapshots and plots later with\n");
         for (const auto& c : commands) std::printf("  %s%s\n", xvfb.c_str(), c.c_str());
         return;
     }
     fs::create_directories(out / "snapshots");
     int failed = 0;
-    for (const auto& c : commands) failed += std::system((c + " > /dev/null").c_str()) != 0;
-    std::printf("pictures: %s/plots, %s/snapshots%s\n", out.string().c_str(), out.string().c_str(),
-                failed ? " (some failed; run the commands by hand to see why)" : "");
+    for (const auto& c : commands) failed += std::system(((has_display ? "" : xvfb) + c + " > /dev/null").c_str()) != 0;
+    std::printf("pictures%s: %s/plots, %s/snapshots (one colour scale for all)%s\n", has_display ? "" : " (through Xvfb)",
+                out.string().c_str(), out.string().c_str(), failed ? "; some failed: run the commands by hand to see why" : "");
 }
 
 /// What a run needs besides its configuration: where to start from and how often to save.

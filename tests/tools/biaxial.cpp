@@ -32,7 +32,11 @@ constexpr bool with_vtk = true;  // the program writes VTK frames
 constexpr bool with_vtk = false;
 #endif
 
-mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(BIAXIAL, args, work); }
+// Without the pictures, which the program would otherwise make through Xvfb at the end of every
+// run (the test `pictures_without_a_display` makes them once).
+mmtest::ProgramResult run(const std::string& args) {
+    return mmtest::run_program(BIAXIAL, args.find("--no-pictures") == std::string::npos ? args + " --no-pictures" : args, work);
+}
 using mmtest::slurp;
 
 // A time series without its first line, "# run <id>", which names the run and so differs
@@ -557,4 +561,21 @@ BOOST_AUTO_TEST_CASE(damaged_time_series_are_refused_or_read_validly) {
     }
     BOOST_TEST_MESSAGE(refused << " of 3000 damaged time series refused, the rest read validly");
     BOOST_TEST(refused > 1000);
+}
+
+// The main job makes its pictures: without a display, through Xvfb when xvfb-run is installed,
+// the plots and the snapshots into the run folder, and says so.
+BOOST_AUTO_TEST_CASE(pictures_without_a_display) {
+    if (!with_vtk || std::system("command -v xvfb-run > /dev/null 2>&1") != 0) return;  // nothing to draw with
+    const auto dir = work / "pictures";
+    const auto r = mmtest::run_program("env -u DISPLAY " + std::string(BIAXIAL),
+                                       "--preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --vtk-every 5 --out " + dir.string(),
+                                       work);
+    BOOST_TEST_REQUIRE(r.exit_code() == 0, r.err);
+    BOOST_TEST(r.out.find("pictures (through Xvfb)") != std::string::npos, r.out);
+    BOOST_TEST(r.out.find("some failed") == std::string::npos, r.out);
+    BOOST_TEST(fs::exists(dir / "plots" / "stress.png"));
+    std::size_t snapshots = 0;
+    for (const auto& e : fs::directory_iterator(dir / "snapshots")) snapshots += e.path().extension() == ".png";
+    BOOST_TEST(snapshots >= 2u);
 }

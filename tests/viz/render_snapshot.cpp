@@ -1,15 +1,22 @@
 // render_snapshot under Xvfb: a known configuration of a few disks with known energies renders at
 // the requested size, the pixel at every centre has its colour-map colour (highest red, lowest
-// black), background pixels are background; without a display it refuses with a clear message.
+// black), background pixels are background; one colour scale holds for every frame of a series
+// (--range-from), a given one (--range) and a logarithmic one (--log) colour as they say; without
+// a display it refuses with a clear message.
 #define BOOST_TEST_MODULE viz_render_snapshot
 #include <boost/test/unit_test.hpp>
 
+#include <array>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <string>
+#include <vector>
 
 #include <micromacro/io/vtk.hpp>
 #include <vtkImageData.h>
 #include <vtkPNGReader.h>
+#include <vtkSmartPointer.h>
 
 #include "snapshot_view.hpp"
 #include "support/programs.hpp"
@@ -108,5 +115,116 @@ BOOST_AUTO_TEST_CASE(damaged_files_are_refused) {
         BOOST_TEST(r.exit_code() == 1, c.args);
         BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.args << ": " << r.err);
         BOOST_TEST(!fs::exists(dir / "damaged.png"), c.args);
+    }
+}
+
+namespace {
+// Frames of disks in a row at x = 0, 3, 6, ... mm with the given energies; the last disk is set
+// apart to fix the bounds alike in every frame.
+fs::path frame(const fs::path& dir, const std::string& name, const std::vector<double>& energies) {
+    mm::io::ParticleFrame<2> f;
+    for (std::size_t i = 0; i < energies.size(); ++i) {
+        f.position.push_back({3e-3 * double(i), 0.0});
+        f.potential_energy.push_back(energies[i]);
+    }
+    f.position.push_back({12e-3, 6e-3});  // the bounds' corner, energy 0
+    f.potential_energy.push_back(0.0);
+    const std::size_t n = f.position.size();
+    f.radius.assign(n, 1e-3);
+    f.velocity.assign(n, mm::Vec<2>::Zero());
+    f.force.assign(n, mm::Vec<2>::Zero());
+    f.kinetic_energy.assign(n, 0.0);
+    f.coordination.assign(n, 0);
+    f.stress.assign(n, mm::Tensor2<2>::Zero());
+    mm::io::write_particles(f, dir / name);
+    return dir / name;
+}
+
+struct Picture {
+    mmtest::ProgramResult result;
+    vtkSmartPointer<vtkImageData> image;
+    std::array<double, 3> at(double x, double y) const {  // the colour at a world point
+        const auto view = viz::View::fit(-1e-3, 13e-3, -1e-3, 7e-3, 640, 480);
+        const auto [col, row] = view.pixel(x, y);
+        std::array<double, 3> c;
+        for (int k = 0; k < 3; ++k) c[k] = image->GetScalarComponentAsDouble(col, 480 - 1 - row, 0, k) / 255.0;
+        return c;
+    }
+};
+
+Picture render(const fs::path& dir, const std::string& args) {
+    const auto png = dir / "picture.png";
+    fs::remove(png);
+    Picture p{mmtest::run_program(std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + RENDER_SNAPSHOT,
+                                  args + " --size 640x480 -o " + png.string(), dir),
+              nullptr};
+    if (p.result.status != 0) return p;
+    vtkNew<vtkPNGReader> reader;
+    reader->SetFileName(png.string().c_str());
+    reader->Update();
+    p.image = reader->GetOutput();
+    return p;
+}
+
+bool close(const std::array<double, 3>& got, const std::array<double, 3>& want) {
+    for (int k = 0; k < 3; ++k)
+        if (std::abs(got[k] - want[k]) > 0.02) return false;
+    return true;
+}
+}  // namespace
+
+// One colour scale for a series: the same particle with the same energy has the same colour in two
+// frames whose own extents differ (the first holds one hot particle), the scale runs from the
+// series' smallest value to its 99th percentile, and what lies above is red and counted.
+BOOST_AUTO_TEST_CASE(one_colour_scale_for_every_frame_of_a_series) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_series_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const auto a = frame(dir, "particles_0.vtp", {1.0, 2.0, 100.0}), b = frame(dir, "particles_1.vtp", {1.0, 2.0, 3.0});
+    mm::io::PvdCollection series(dir / "particles.pvd");
+    series.add(0.0, a);
+    series.add(1.0, b);
+    series.write();
+    const auto [lo, hi] = viz::series_range({1.0, 2.0, 100.0, 0.0, 1.0, 2.0, 3.0, 0.0}, false);
+    BOOST_TEST(lo == 0.0);
+    BOOST_TEST(hi == 3.0);  // the 99th percentile of 8 values: the 7th smallest
+    const auto first = render(dir, a.string() + " --range-from " + (dir / "particles.pvd").string());
+    const auto second = render(dir, b.string() + " --range-from " + (dir / "particles.pvd").string());
+    BOOST_TEST_REQUIRE(first.result.status == 0, first.result.err);
+    BOOST_TEST_REQUIRE(second.result.status == 0, second.result.err);
+    for (int i : {0, 1}) {
+        BOOST_TEST(close(first.at(3e-3 * i, 0.0), second.at(3e-3 * i, 0.0)), "disk " << i);
+        BOOST_TEST(close(first.at(3e-3 * i, 0.0), viz::energy_colour((1.0 + i) / 3.0)), "disk " << i);
+    }
+    BOOST_TEST(close(first.at(6e-3, 0.0), {1.0, 0.0, 0.0}));   // 100: above the scale, red
+    BOOST_TEST(close(second.at(6e-3, 0.0), {1.0, 0.0, 0.0}));  // 3: the top of the scale
+    BOOST_TEST(first.result.out.find("25.0% of this frame above it") != std::string::npos, first.result.out);
+    BOOST_TEST(second.result.out.find("0.0% of this frame above it") != std::string::npos, second.result.out);
+    // Each frame on its own scale, the same disk differs: the reason for the option.
+    const auto own = render(dir, a.string());
+    BOOST_TEST_REQUIRE(own.result.status == 0, own.result.err);
+    BOOST_TEST(!close(own.at(0.0, 0.0), first.at(0.0, 0.0)));
+}
+
+// --range gives the scale; --log spaces it by decades (a value at the scale's geometric middle
+// takes the colour map's middle); bad scales are refused and nothing is written.
+BOOST_AUTO_TEST_CASE(a_given_and_a_logarithmic_scale) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_series_test";
+    fs::create_directories(dir);
+    const auto f = frame(dir, "scale.vtp", {1e-9, 1e-8, 1e-7, 5.0});
+    const auto given = render(dir, f.string() + " --range 0 3e-7");
+    BOOST_TEST_REQUIRE(given.result.status == 0, given.result.err);
+    BOOST_TEST(close(given.at(6e-3, 0.0), viz::energy_colour(1.0 / 3.0)));  // 1e-7 of 3e-7
+    BOOST_TEST(close(given.at(9e-3, 0.0), {1.0, 0.0, 0.0}));                // 5 > 3e-7: red
+    const auto decades = render(dir, f.string() + " --range 1e-9 1e-7 --log");
+    BOOST_TEST_REQUIRE(decades.result.status == 0, decades.result.err);
+    BOOST_TEST(close(decades.at(0.0, 0.0), viz::energy_colour(0.0)));
+    BOOST_TEST(close(decades.at(3e-3, 0.0), viz::energy_colour(0.5)));  // 1e-8: the geometric middle
+    BOOST_TEST(close(decades.at(6e-3, 0.0), viz::energy_colour(1.0)));
+    for (const std::string& bad : std::vector<std::string>{" --range 2 1", " --range 0 1 --log", " --range 0 1 --range-from " + (dir / "particles.pvd").string()}) {
+        const auto r = render(dir, f.string() + bad);
+        BOOST_TEST(r.result.exit_code() == 1, bad);
+        BOOST_TEST(!r.result.err.empty(), bad);
+        BOOST_TEST(!fs::exists(dir / "picture.png"), bad);
     }
 }

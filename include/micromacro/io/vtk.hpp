@@ -34,6 +34,7 @@
 #include "micromacro/averaging/tensor.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/engine/snapshot.hpp"
+#include "micromacro/io/whole_file.hpp"
 #include "micromacro/particles/particles.hpp"
 
 namespace micromacro::io {
@@ -259,22 +260,13 @@ public:
     void add(double time, const std::filesystem::path& file) { entries_.push_back({time, file.filename().string()}); }
     void write() const {
         detail::check_directory(path_);
-        const std::filesystem::path partial = path_.string() + ".partial";
-        {
-            std::ofstream out(partial);
+        detail::write_whole_file(path_, std::ios::out, [&](std::ofstream& out) {
             out.precision(17);
             out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
             for (const auto& e : entries_)
                 out << "    <DataSet timestep=\"" << e.time << "\" group=\"\" part=\"0\" file=\"" << e.file << "\"/>\n";
             out << "  </Collection>\n</VTKFile>\n";
-            if (!out.flush()) {
-                out.close();
-                std::error_code ignored;
-                std::filesystem::remove(partial, ignored);
-                micromacro::detail::throw_input_error("cannot write ", partial.string(), " (is the disk full?)");
-            }
-        }
-        std::filesystem::rename(partial, path_);
+        });
     }
     std::size_t size() const { return entries_.size(); }
 
