@@ -41,6 +41,7 @@
 #include <vtkRenderer.h>
 #include <vtkScalarBarActor.h>
 #include <vtkSphereSource.h>
+#include <vtkTextActor.h>
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
 #include <vtkXMLPolyDataReader.h>
@@ -54,28 +55,34 @@ namespace fs = std::filesystem;
 namespace {
 using viz::fail;
 
-/// The data sets a .pvd collection lists, in order, as paths next to it.
-std::vector<fs::path> collection(const fs::path& pvd) {
+/// One data set of a .pvd collection: its file (a path next to the collection) and time.
+struct Entry {
+    fs::path file;
+    double time;
+};
+
+/// The data sets a .pvd collection lists, in order.
+std::vector<Entry> collection(const fs::path& pvd) {
     std::ifstream in(pvd);
     if (!in) fail("cannot open " + pvd.string());
     const std::string text((std::istreambuf_iterator<char>(in)), {});
-    std::vector<fs::path> files;
-    const std::regex file_attr("file=\"([^\"]+)\"");
-    for (auto it = std::sregex_iterator(text.begin(), text.end(), file_attr); it != std::sregex_iterator(); ++it)
-        files.push_back(pvd.parent_path() / std::string((*it)[1]));
+    std::vector<Entry> entries;
+    const std::regex data_set("<DataSet[^>]*timestep=\"([^\"]*)\"[^>]*file=\"([^\"]+)\"");
+    for (auto it = std::sregex_iterator(text.begin(), text.end(), data_set); it != std::sregex_iterator(); ++it)
+        entries.push_back({pvd.parent_path() / std::string((*it)[2]), std::strtod(std::string((*it)[1]).c_str(), nullptr)});
     if (text.find("</VTKFile>") == std::string::npos) fail(pvd.string() + " is truncated (no closing </VTKFile>)");
-    if (files.empty()) fail(pvd.string() + " lists no data sets");
-    return files;
+    if (entries.empty()) fail(pvd.string() + " lists no data sets");
+    return entries;
 }
 
 /// The file of step `step` (negative: from the end) of a .pvd collection, or the file itself.
 fs::path resolve(const fs::path& input, int step) {
     if (input.extension() != ".pvd") return input;
-    const std::vector<fs::path> files = collection(input);
+    const std::vector<Entry> files = collection(input);
     const int n = static_cast<int>(files.size());
     const int index = step < 0 ? n + step : step;
     if (index < 0 || index >= n) fail("--step " + std::to_string(step) + " is outside the " + std::to_string(n) + " steps of " + input.string());
-    return files[static_cast<std::size_t>(index)];
+    return files[static_cast<std::size_t>(index)].file;
 }
 
 /// A .vtp file; `need_points`: refuse one without points (a particles file must have some).
@@ -116,8 +123,9 @@ vtkSmartPointer<vtkActor> overlay(vtkRenderer* renderer, vtkPolyData* data, doub
 
 int main(int argc, char** argv) {
     std::string input, walls, contacts, output = "snapshot.png", size = "1000x800", range_from;
+    std::string movie;
     std::vector<double> fixed_range;
-    int step = -1;
+    int step = -1, frames_per_second = 8;
     bool three_d = false, log_scale = false;
     CLI::App app{"Render particles coloured by potential energy (the paper's Fig. 3) to a PNG, off-screen. "
                  "Needs an X server: run under xvfb-run -a -s \"-screen 0 1280x1024x24\" on a machine without a display."};
@@ -135,6 +143,11 @@ int main(int argc, char** argv) {
                    "says how many")
         ->excludes(range_option);
     app.add_flag("--log", log_scale, "logarithmic colour scale");
+    app.add_option("--movie", movie,
+                   "render every frame of the .pvd input on one colour scale (the series', unless --range or --range-from), "
+                   "its time printed on each, and make this .mp4 of them with ffmpeg if installed; else the numbered "
+                   "PNGs stay in MOVIE_frames/ and the ffmpeg command is printed");
+    app.add_option("--fps", frames_per_second, "frames per second of the movie")->check(CLI::Range(1, 120))->capture_default_str();
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         const auto [width, height] = viz::parse_size(size);
@@ -143,6 +156,13 @@ int main(int argc, char** argv) {
         const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
         if (!fs::is_directory(out_dir)) fail("cannot write " + output + ": the directory " + out_dir.string() + " does not exist");
 
+        if (!movie.empty()) {
+            if (fs::path(input).extension() != ".pvd") fail("--movie needs a .pvd series as input, not " + input);
+            if (fs::exists(movie)) fail("--movie " + movie + " exists; remove it or give another name");
+            const auto dir = fs::path(movie).has_parent_path() ? fs::path(movie).parent_path() : fs::path(".");
+            if (!fs::is_directory(dir)) fail("cannot write " + movie + ": the directory " + dir.string() + " does not exist");
+            if (fixed_range.empty() && range_from.empty()) range_from = input;  // one scale for the movie
+        }
         const auto particles = read(resolve(input, step));
         auto* energy = particles->GetPointData()->GetArray("potential_energy");
         auto* radius = particles->GetPointData()->GetArray("radius");
@@ -157,7 +177,7 @@ int main(int argc, char** argv) {
         } else if (!range_from.empty()) {
             std::vector<double> all;
             const auto frames = collection(range_from);
-            for (const auto& file : frames) {
+            for (const auto& [file, time] : frames) {
                 const auto frame = read(file);
                 auto* values = frame->GetPointData()->GetArray("potential_energy");
                 if (!values) fail(file.string() + " has no potential_energy array");
@@ -176,113 +196,165 @@ int main(int argc, char** argv) {
             fail("--log needs a scale above zero, and " + scale_source + " gives " + std::to_string(range[0]) +
                  "; give --range with MIN > 0 or drop --log");
         if (!(range[1] > range[0])) range[1] = log_scale ? range[0] * (1.0 + 1e-9) : range[0] + std::max(1e-300, 1e-9 * std::abs(range[0]));
-        // Values beyond the scale take its end colours; how many, the colour bar says.
-        std::size_t above = 0, below = 0;
-        for (vtkIdType i = 0; i < energy->GetNumberOfTuples(); ++i) {
-            const double e = energy->GetTuple1(i);
-            above += e > range[1];
-            below += e < range[0];
-        }
-        const double n_values = static_cast<double>(energy->GetNumberOfTuples());
-
-        vtkNew<vtkColorTransferFunction> colours;
-        if (log_scale) colours->SetScaleToLog10();
-        for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
-            const auto c = viz::energy_colour(u);
-            const double at = log_scale ? range[0] * std::pow(range[1] / range[0], u) : range[0] + u * (range[1] - range[0]);
-            colours->AddRGBPoint(at, c[0], c[1], c[2]);
-        }
-        colours->ClampingOn();
-        vtkNew<vtkGlyph3DMapper> glyphs;
-        glyphs->SetInputData(particles);
-        vtkNew<vtkRegularPolygonSource> disk;
-        disk->SetNumberOfSides(48);
-        disk->SetRadius(1.0);
-        vtkNew<vtkSphereSource> sphere;
-        sphere->SetRadius(1.0);
-        sphere->SetThetaResolution(24);
-        sphere->SetPhiResolution(16);
-        if (three_d) glyphs->SetSourceConnection(sphere->GetOutputPort());
-        else glyphs->SetSourceConnection(disk->GetOutputPort());
-        glyphs->SetScaleArray("radius");
-        glyphs->SetScaleModeToScaleByMagnitude();
-        glyphs->SetScalarModeToUsePointFieldData();
-        glyphs->SelectColorArray("potential_energy");
-        glyphs->SetLookupTable(colours);
-        glyphs->SetScalarRange(range.data());
-        glyphs->ScalarVisibilityOn();
-        vtkNew<vtkActor> actor;
-        actor->SetMapper(glyphs);
-        if (!three_d) actor->GetProperty()->LightingOff();  // exact colour-map colours on flat disks
-
-        vtkNew<vtkRenderer> renderer;
-        renderer->SetBackground(viz::background[0], viz::background[1], viz::background[2]);
-        renderer->AddActor(actor);
-
-        double bounds[6];
-        particles->GetBounds(bounds);
-        double rmax = radius->GetRange()[1];
-        double xlo = bounds[0] - rmax, xhi = bounds[1] + rmax, ylo = bounds[2] - rmax, yhi = bounds[3] + rmax;
-        if (!walls.empty()) {
-            const auto wall_data = read(walls, false);
-            double wb[6];
-            wall_data->GetBounds(wb);
-            xlo = wb[0], xhi = wb[1], ylo = wb[2], yhi = wb[3];
-            const auto actor = overlay(renderer, wall_data, 0.3, 3.0);
-            if (three_d) actor->GetProperty()->SetOpacity(0.15);
-        }
-        if (!contacts.empty()) {
-            const auto actor = overlay(renderer, read(contacts, false), 1.0, 1.5);
-            actor->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
-        }
-
-        // A logarithmic scale's bar shows log10 of the energy on a linear axis (VTK's bar samples a
-        // log colour function linearly).
-        vtkNew<vtkColorTransferFunction> bar_colours;
-        for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
-            const auto c = viz::energy_colour(u);
-            const double lo = log_scale ? std::log10(range[0]) : range[0], hi = log_scale ? std::log10(range[1]) : range[1];
-            bar_colours->AddRGBPoint(lo + u * (hi - lo), c[0], c[1], c[2]);
-        }
-        vtkNew<vtkScalarBarActor> bar;
-        bar->SetLookupTable(bar_colours);
-        std::string title = log_scale ? "log10 potential energy (J)" : "potential energy (J)";
-        char share[64];
-        if (above > 0) {
-            std::snprintf(share, sizeof share, "\n%.1f%% above: red", 100.0 * above / n_values);
-            title += share;
-        }
-        if (below > 0) {
-            std::snprintf(share, sizeof share, "\n%.1f%% below: black", 100.0 * below / n_values);
-            title += share;
-        }
-        bar->SetTitle(title.c_str());
-        bar->SetNumberOfLabels(5);
-        bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
-        bar->GetPositionCoordinate()->SetValue(0.87, 0.1);
-        bar->SetWidth(0.11);
-        bar->SetHeight(0.8);
-        for (auto* t : {bar->GetTitleTextProperty(), bar->GetLabelTextProperty()}) t->SetColor(0, 0, 0);
-        renderer->AddActor2D(bar);
-
-        const auto view = viz::View::fit(xlo, xhi, ylo, yhi, width, height);
-        auto* camera = renderer->GetActiveCamera();
-        camera->ParallelProjectionOn();
-        camera->SetFocalPoint(view.camera_x(), view.cy, 0.0);
-        camera->SetPosition(view.camera_x(), view.cy, 10.0 * (yhi - ylo + xhi - xlo));
-        camera->SetViewUp(0, 1, 0);
-        camera->SetParallelScale(view.half_height);
-        renderer->ResetCameraClippingRange();
-
+        // One window for every picture: VTK's X connection does not survive a second window.
         vtkNew<vtkRenderWindow> window;
         window->SetOffScreenRendering(1);
         window->SetSize(width, height);
-        window->AddRenderer(renderer);
-        viz::write_png(window, output);
+        // One picture: `frame`'s particles (with the walls and contacts files if not empty) on the
+        // colour scale, `caption` at the top left, written to `png`. Returns the share of the
+        // particles above and below the scale.
+        auto draw = [&](vtkPolyData* frame, const fs::path& walls_file, const fs::path& contacts_file, const std::string& caption,
+                        const fs::path& png) -> std::array<double, 2> {
+            auto* energy = frame->GetPointData()->GetArray("potential_energy");
+            auto* radius = frame->GetPointData()->GetArray("radius");
+            if (!energy || !radius) fail("a frame has no potential_energy or radius array");
+            // Values beyond the scale take its end colours; how many, the colour bar says.
+            std::size_t above = 0, below = 0;
+            for (vtkIdType i = 0; i < energy->GetNumberOfTuples(); ++i) {
+                const double e = energy->GetTuple1(i);
+                above += e > range[1];
+                below += e < range[0];
+            }
+            const double n_values = static_cast<double>(energy->GetNumberOfTuples());
+
+            vtkNew<vtkColorTransferFunction> colours;
+            if (log_scale) colours->SetScaleToLog10();
+            for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
+                const auto c = viz::energy_colour(u);
+                const double at = log_scale ? range[0] * std::pow(range[1] / range[0], u) : range[0] + u * (range[1] - range[0]);
+                colours->AddRGBPoint(at, c[0], c[1], c[2]);
+            }
+            colours->ClampingOn();
+            vtkNew<vtkGlyph3DMapper> glyphs;
+            glyphs->SetInputData(frame);
+            vtkNew<vtkRegularPolygonSource> disk;
+            disk->SetNumberOfSides(48);
+            disk->SetRadius(1.0);
+            vtkNew<vtkSphereSource> sphere;
+            sphere->SetRadius(1.0);
+            sphere->SetThetaResolution(24);
+            sphere->SetPhiResolution(16);
+            if (three_d) glyphs->SetSourceConnection(sphere->GetOutputPort());
+            else glyphs->SetSourceConnection(disk->GetOutputPort());
+            glyphs->SetScaleArray("radius");
+            glyphs->SetScaleModeToScaleByMagnitude();
+            glyphs->SetScalarModeToUsePointFieldData();
+            glyphs->SelectColorArray("potential_energy");
+            glyphs->SetLookupTable(colours);
+            glyphs->SetScalarRange(range.data());
+            glyphs->ScalarVisibilityOn();
+            vtkNew<vtkActor> actor;
+            actor->SetMapper(glyphs);
+            if (!three_d) actor->GetProperty()->LightingOff();  // exact colour-map colours on flat disks
+
+            vtkNew<vtkRenderer> renderer;
+            renderer->SetBackground(viz::background[0], viz::background[1], viz::background[2]);
+            renderer->AddActor(actor);
+
+            double bounds[6];
+            frame->GetBounds(bounds);
+            double rmax = radius->GetRange()[1];
+            double xlo = bounds[0] - rmax, xhi = bounds[1] + rmax, ylo = bounds[2] - rmax, yhi = bounds[3] + rmax;
+            if (!walls_file.empty()) {
+                const auto wall_data = read(walls_file, false);
+                double wb[6];
+                wall_data->GetBounds(wb);
+                xlo = wb[0], xhi = wb[1], ylo = wb[2], yhi = wb[3];
+                const auto actor = overlay(renderer, wall_data, 0.3, 3.0);
+                if (three_d) actor->GetProperty()->SetOpacity(0.15);
+            }
+            if (!contacts_file.empty()) {
+                const auto actor = overlay(renderer, read(contacts_file, false), 1.0, 1.5);
+                actor->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
+            }
+
+            // A logarithmic scale's bar shows log10 of the energy on a linear axis (VTK's bar samples a
+            // log colour function linearly).
+            vtkNew<vtkColorTransferFunction> bar_colours;
+            for (double u : {0.0, 1.0 / 3.0, 2.0 / 3.0, 1.0}) {
+                const auto c = viz::energy_colour(u);
+                const double lo = log_scale ? std::log10(range[0]) : range[0], hi = log_scale ? std::log10(range[1]) : range[1];
+                bar_colours->AddRGBPoint(lo + u * (hi - lo), c[0], c[1], c[2]);
+            }
+            vtkNew<vtkScalarBarActor> bar;
+            bar->SetLookupTable(bar_colours);
+            std::string title = log_scale ? "log10 potential energy (J)" : "potential energy (J)";
+            char share[64];
+            if (above > 0) {
+                std::snprintf(share, sizeof share, "\n%.1f%% above: red", 100.0 * above / n_values);
+                title += share;
+            }
+            if (below > 0) {
+                std::snprintf(share, sizeof share, "\n%.1f%% below: black", 100.0 * below / n_values);
+                title += share;
+            }
+            bar->SetTitle(title.c_str());
+            bar->SetNumberOfLabels(5);
+            bar->GetPositionCoordinate()->SetCoordinateSystemToNormalizedViewport();
+            bar->GetPositionCoordinate()->SetValue(0.87, 0.1);
+            bar->SetWidth(0.11);
+            bar->SetHeight(0.8);
+            for (auto* t : {bar->GetTitleTextProperty(), bar->GetLabelTextProperty()}) t->SetColor(0, 0, 0);
+            renderer->AddActor2D(bar);
+
+            const auto view = viz::View::fit(xlo, xhi, ylo, yhi, width, height);
+            auto* camera = renderer->GetActiveCamera();
+            camera->ParallelProjectionOn();
+            camera->SetFocalPoint(view.camera_x(), view.cy, 0.0);
+            camera->SetPosition(view.camera_x(), view.cy, 10.0 * (yhi - ylo + xhi - xlo));
+            camera->SetViewUp(0, 1, 0);
+            camera->SetParallelScale(view.half_height);
+            renderer->ResetCameraClippingRange();
+
+            if (!caption.empty()) {
+                vtkNew<vtkTextActor> text;
+                text->SetInput(caption.c_str());
+                text->GetTextProperty()->SetColor(0, 0, 0);
+                text->GetTextProperty()->SetFontSize(18);
+                text->SetDisplayPosition(10, height - 30);
+                renderer->AddActor2D(text);
+            }
+            window->AddRenderer(renderer);
+            viz::write_png(window, png);
+            window->RemoveRenderer(renderer);
+            return {100.0 * above / n_values, 100.0 * below / n_values};
+        };
+
+        if (!movie.empty()) {
+            const auto frames = collection(input);
+            const fs::path folder = fs::path(movie).parent_path() / (fs::path(movie).stem().string() + "_frames");
+            // Walls drawn from the series' walls.pvd when it lists as many frames.
+            std::vector<Entry> wall_frames;
+            if (const auto w = fs::path(input).parent_path() / "walls.pvd"; fs::exists(w)) wall_frames = collection(w);
+            if (wall_frames.size() != frames.size()) wall_frames.clear();
+            fs::create_directories(folder);
+            for (std::size_t k = 0; k < frames.size(); ++k) {
+                char name[32], caption[64];
+                std::snprintf(name, sizeof name, "frame_%04zu.png", k);
+                std::snprintf(caption, sizeof caption, "t = %.4g s", frames[k].time);
+                draw(read(frames[k].file), wall_frames.empty() ? fs::path() : wall_frames[k].file, {}, caption, folder / name);
+            }
+            auto quoted = [](const std::string& text) { return "'" + text + "'"; };
+            const std::string encode = "ffmpeg -loglevel error -y -framerate " + std::to_string(frames_per_second) + " -i " +
+                                       quoted((folder / "frame_%04d.png").string()) +
+                                       " -c:v libx264 -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' " + quoted(movie);
+            if (std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
+                if (std::system(encode.c_str()) != 0) fail("ffmpeg could not make " + movie + " from " + folder.string() + "; the frames stay there");
+                fs::remove_all(folder);
+                std::printf("render_snapshot: %s (%zu frames at %d per second, colour scale %g..%g J from %s)\n", movie.c_str(),
+                            frames.size(), frames_per_second, range[0], range[1], scale_source.c_str());
+            } else {
+                std::printf("render_snapshot: %zu frames in %s (colour scale %g..%g J from %s); no ffmpeg (Debian's ffmpeg) to "
+                            "make the movie: %s\n",
+                            frames.size(), folder.string().c_str(), range[0], range[1], scale_source.c_str(), encode.c_str());
+            }
+            return 0;
+        }
+        const auto [above, below] = draw(particles, walls, contacts, "", output);
         std::printf("render_snapshot: %s (%dx%d, %lld particles, colour scale %g..%g J%s from %s; %.1f%% of this frame above it, "
                     "%.1f%% below)\n",
                     output.c_str(), width, height, static_cast<long long>(particles->GetNumberOfPoints()), range[0], range[1],
-                    log_scale ? ", logarithmic," : "", scale_source.c_str(), 100.0 * above / n_values, 100.0 * below / n_values);
+                    log_scale ? ", logarithmic," : "", scale_source.c_str(), above, below);
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "render_snapshot: %s\n", e.what());

@@ -65,7 +65,8 @@ std::string csv_number(double v) {
 
 /// What a run writes into its folder. A folder that holds any of these holds a run.
 const char* const run_entries[] = {"run.json",       "timeseries.csv", "timeseries.csv.partial", "checkpoint.state",
-                                   "prepared.state", "vtk",            "plots",                  "snapshots"};
+                                   "prepared.state", "vtk",            "plots",                  "snapshots",
+                                   "movie.mp4",      "movie_frames"};
 
 /// Makes `out` ready for a new run: created if missing. A folder that holds an earlier run is
 /// refused, so that no result is overwritten and no two runs mix, unless `overwrite`, which
@@ -120,9 +121,9 @@ fs::path sibling_program(const std::string& name) {
     return {};
 }
 
-/// Snapshots (like Fig. 3) of a few VTK frames, all on the colour scale of the whole series, and
-/// the plots of Fig. 4-5: through the X display, or through Xvfb (xvfb-run) when there is none;
-/// without either, the commands that make them later.
+/// Snapshots (like Fig. 3) of a few VTK frames, all on the colour scale of the whole series, the
+/// plots of Fig. 4-5 and, with ffmpeg, a movie of every frame: through the X display, or through
+/// Xvfb (xvfb-run) when there is none; without either, the commands that make them later.
 void make_pictures(const fs::path& out, std::size_t frames, int dim) {
     const fs::path render = sibling_program("render_snapshot"), plot = sibling_program("plot_timeseries");
     const std::string xvfb = "xvfb-run -a -s \"-screen 0 1280x1024x24\" ";
@@ -143,6 +144,11 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
                                " -o " + (out / "snapshots" / ("snapshot_" + k + ".png")).string());
         }
     }
+    // A movie of every frame on the series' scale, where Debian's ffmpeg is installed to encode it.
+    const bool has_ffmpeg = std::system("command -v ffmpeg > /dev/null 2>&1") == 0;
+    if (!render.empty() && frames > 1 && has_ffmpeg && !fs::exists(out / "movie.mp4"))
+        commands.push_back(render.string() + " " + (out / "vtk" / "particles.pvd").string() + (dim == 3 ? " --3d" : "") + " --movie " +
+                           (out / "movie.mp4").string());
     if (commands.empty()) return;
     const char* display = std::getenv("DISPLAY");
     const bool has_display = display && *display;
@@ -155,8 +161,9 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
     fs::create_directories(out / "snapshots");
     int failed = 0;
     for (const auto& c : commands) failed += std::system(((has_display ? "" : xvfb) + c + " > /dev/null").c_str()) != 0;
-    std::printf("pictures%s: %s/plots, %s/snapshots (one colour scale for all)%s\n", has_display ? "" : " (through Xvfb)",
-                out.string().c_str(), out.string().c_str(), failed ? "; some failed: run the commands by hand to see why" : "");
+    const std::string movie = fs::exists(out / "movie.mp4") ? ", " + (out / "movie.mp4").string() : "";
+    std::printf("pictures%s: %s/plots, %s/snapshots (one colour scale for all)%s%s\n", has_display ? "" : " (through Xvfb)",
+                out.string().c_str(), out.string().c_str(), movie.c_str(), failed ? "; some failed: run the commands by hand to see why" : "");
 }
 
 /// What a run needs besides its configuration: where to start from and how often to save.

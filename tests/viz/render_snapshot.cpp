@@ -8,6 +8,7 @@
 
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <string>
@@ -227,4 +228,37 @@ BOOST_AUTO_TEST_CASE(a_given_and_a_logarithmic_scale) {
         BOOST_TEST(!r.result.err.empty(), bad);
         BOOST_TEST(!fs::exists(dir / "picture.png"), bad);
     }
+}
+
+// A movie of a series: every frame rendered (on the series' scale), then encoded by ffmpeg where it
+// is installed (ffprobe counts the frames), else the numbered PNGs stay with the command printed.
+// A .vtp input and an existing movie are refused.
+BOOST_AUTO_TEST_CASE(a_movie_of_a_series) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_series_test";
+    BOOST_TEST_REQUIRE(fs::exists(dir / "particles.pvd"));  // from one_colour_scale_for_every_frame_of_a_series
+    const auto movie = dir / "movie.mp4", frames = dir / "movie_frames";
+    fs::remove_all(frames);
+    fs::remove(movie);
+    const std::string program = std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + RENDER_SNAPSHOT;
+    const auto r = mmtest::run_program(program, (dir / "particles.pvd").string() + " --size 320x240 --movie " + movie.string(), dir);
+    BOOST_TEST_REQUIRE(r.exit_code() == 0, r.err);
+    if (std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
+        BOOST_TEST(fs::exists(movie));
+        BOOST_TEST(!fs::exists(frames));
+        const auto count = mmtest::run_program("ffprobe", "-v error -count_frames -select_streams v:0 -show_entries "
+                                                          "stream=nb_read_frames -of csv=p=0 " + movie.string(), dir);
+        BOOST_TEST(std::stoi(count.out) == 2, count.out);
+    } else {
+        BOOST_TEST(fs::exists(frames / "frame_0000.png"));
+        BOOST_TEST(fs::exists(frames / "frame_0001.png"));
+        BOOST_TEST(!fs::exists(frames / "frame_0002.png"));
+        BOOST_TEST(r.out.find("ffmpeg -loglevel error") != std::string::npos, r.out);
+    }
+    const auto single = mmtest::run_program(program, (dir / "particles_0.vtp").string() + " --movie " + (dir / "other.mp4").string(), dir);
+    BOOST_TEST(single.exit_code() == 1);
+    BOOST_TEST(single.err.find("needs a .pvd series") != std::string::npos, single.err);
+    std::ofstream(dir / "taken.mp4") << "an earlier movie";
+    const auto taken = mmtest::run_program(program, (dir / "particles.pvd").string() + " --movie " + (dir / "taken.mp4").string(), dir);
+    BOOST_TEST(taken.exit_code() == 1);
+    BOOST_TEST(mmtest::slurp(dir / "taken.mp4") == "an earlier movie");
 }
