@@ -47,6 +47,7 @@
 #include <vtkXMLPolyDataReader.h>
 
 #include "../examples/command_line.hpp"
+#include "../examples/installed.hpp"
 #include "offscreen.hpp"
 #include "snapshot_view.hpp"
 
@@ -183,14 +184,12 @@ int main(int argc, char** argv) {
                 if (!values) fail(file.string() + " has no potential_energy array");
                 for (vtkIdType i = 0; i < values->GetNumberOfTuples(); ++i) all.push_back(values->GetTuple1(i));
             }
-            range = viz::series_range(std::move(all), log_scale);
+            range = viz::colour_scale(std::move(all), log_scale, true);
             scale_source = std::to_string(frames.size()) + " frames of " + range_from;
         } else {
             std::vector<double> own(static_cast<std::size_t>(energy->GetNumberOfTuples()));
             for (vtkIdType i = 0; i < energy->GetNumberOfTuples(); ++i) own[static_cast<std::size_t>(i)] = energy->GetTuple1(i);
-            if (log_scale) own.erase(std::remove_if(own.begin(), own.end(), [](double x) { return !(x > 0.0); }), own.end());
-            range = own.empty() ? std::array<double, 2>{0.0, 0.0}
-                                : std::array<double, 2>{*std::min_element(own.begin(), own.end()), *std::max_element(own.begin(), own.end())};
+            range = viz::colour_scale(std::move(own), log_scale, false);
         }
         if (log_scale && !(range[0] > 0.0))
             fail("--log needs a scale above zero, and " + scale_source + " gives " + std::to_string(range[0]) +
@@ -338,7 +337,7 @@ int main(int argc, char** argv) {
             const std::string encode = "ffmpeg -loglevel error -y -framerate " + std::to_string(frames_per_second) + " -i " +
                                        quoted((folder / "frame_%04d.png").string()) +
                                        " -c:v libx264 -pix_fmt yuv420p -vf 'pad=ceil(iw/2)*2:ceil(ih/2)*2' " + quoted(movie);
-            if (std::system("command -v ffmpeg > /dev/null 2>&1") == 0) {
+            if (installed("ffmpeg")) {
                 if (std::system(encode.c_str()) != 0) fail("ffmpeg could not make " + movie + " from " + folder.string() + "; the frames stay there");
                 fs::remove_all(folder);
                 std::printf("render_snapshot: %s (%zu frames at %d per second, colour scale %g..%g J from %s)\n", movie.c_str(),

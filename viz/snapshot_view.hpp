@@ -31,16 +31,17 @@ inline double quantile(std::vector<double>& v, double q) {
     return v[static_cast<std::size_t>(k)];
 }
 
-/// One colour scale for every frame of a series, from all their values: the smallest value to the
-/// 99th percentile, so that a few highly loaded particles neither darken the rest nor move the
-/// scale from frame to frame. With `log`, from the 1st percentile of the positive values (a
-/// logarithmic scale has no zero). {0, 0} when there is nothing to scale (no values; with `log`,
-/// none positive).
-inline std::array<double, 2> series_range(std::vector<double> values, bool log) {
+/// A colour scale for `values`: their extent, or with `robust` (one scale for every frame of a
+/// series, from all their values) the smallest value to the 99th percentile, so that a few highly
+/// loaded particles neither darken the rest nor move the scale from frame to frame. With `log`
+/// only the positive values count (a logarithmic scale has no zero), and a robust scale starts at
+/// their 1st percentile. {0, 0} when there is nothing to scale.
+inline std::array<double, 2> colour_scale(std::vector<double> values, bool log, bool robust) {
     if (log) values.erase(std::remove_if(values.begin(), values.end(), [](double x) { return !(x > 0.0); }), values.end());
     if (values.empty()) return {0.0, 0.0};
-    const double lo = log ? quantile(values, 0.01) : *std::min_element(values.begin(), values.end());
-    return {lo, quantile(values, 0.99)};
+    const double lo = robust && log ? quantile(values, 0.01) : *std::min_element(values.begin(), values.end());
+    const double hi = robust ? quantile(values, 0.99) : *std::max_element(values.begin(), values.end());
+    return {lo, hi};
 }
 
 /// The view: the box [lo, hi] (x, y of the image plane) fills the left 85% of the image (the

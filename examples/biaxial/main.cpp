@@ -23,6 +23,7 @@
 #include <nlohmann/json.hpp>
 
 #include "../command_line.hpp"
+#include "../installed.hpp"
 #include "biaxial.hpp"
 #include "parameters.hpp"
 #include "quality.hpp"
@@ -145,14 +146,14 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
         }
     }
     // A movie of every frame on the series' scale, where Debian's ffmpeg is installed to encode it.
-    const bool has_ffmpeg = std::system("command -v ffmpeg > /dev/null 2>&1") == 0;
+    const bool has_ffmpeg = installed("ffmpeg");
     if (!render.empty() && frames > 1 && has_ffmpeg && !fs::exists(out / "movie.mp4"))
         commands.push_back(render.string() + " " + (out / "vtk" / "particles.pvd").string() + (dim == 3 ? " --3d" : "") + " --movie " +
                            (out / "movie.mp4").string());
     if (commands.empty()) return;
     const char* display = std::getenv("DISPLAY");
     const bool has_display = display && *display;
-    const bool has_xvfb = !has_display && std::system("command -v xvfb-run > /dev/null 2>&1") == 0;
+    const bool has_xvfb = !has_display && installed("xvfb-run");
     if (!has_display && !has_xvfb) {
         std::printf("no display and no xvfb-run (Debian's xvfb): make the snapshots and plots later with\n");
         for (const auto& c : commands) std::printf("  %s%s\n", xvfb.c_str(), c.c_str());

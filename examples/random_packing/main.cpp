@@ -21,7 +21,6 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <numbers>
 #include <random>
 #include <string>
 #include <vector>
@@ -46,13 +45,6 @@ struct Options {
     std::string out;
     bool overwrite = false;
 };
-
-/// Particle volume: area of a disk in 2D, volume of a sphere in 3D.
-template <int dim>
-double particle_volume(double r) {
-    if constexpr (dim == 2) return std::numbers::pi * r * r;
-    else return 4.0 / 3.0 * std::numbers::pi * r * r * r;
-}
 
 /// Centres placed at random in the periodic box [0, L)^dim, none overlapping another: random
 /// sequential addition, largest particles first, each checked against the particles of its own
@@ -145,7 +137,7 @@ int run(const Options& o) {
     double solid = 0.0, mean_r = 0.0, mean_m = 0.0;
     for (double& a : r) {
         a = radius(rng);
-        solid += particle_volume<dim>(a);
+        solid += mm::DimTraits<dim>::particle_volume(a);
         mean_r += a / double(o.particles);
         mean_m += mm::sphere_mass(o.density, a) / double(o.particles);
     }
@@ -188,15 +180,11 @@ int run(const Options& o) {
                                           m.pressure / target, " of the target); try a larger --pressure");
     }
     const auto& box = sim.domain();
-    std::vector<mm::Vec<dim>> final_x(sim.particles().size());
-    std::vector<double> final_r(sim.particles().size());
-    for (std::size_t i = 0; i < final_x.size(); ++i) {
-        final_x[i] = sim.particles().position()[i];
-        final_r[i] = sim.particles().radius()[i];
-    }
+    const auto& final_x = sim.particles().position();
+    const auto& final_r = sim.particles().radius();
     mm::io::write_lammps_dump<dim>(o.out, final_x, final_r, box);
     double fraction = 0.0;
-    for (double a : final_r) fraction += particle_volume<dim>(a);
+    for (double a : final_r) fraction += mm::DimTraits<dim>::particle_volume(a);
     fraction /= (box.hi() - box.lo()).prod();
     std::printf("%s: %zu particles (radii %.3g-%.3g m, mean %.4g m) in a periodic box of side %.6g m; packing fraction %.4f, "
                 "coordination %.3f, mean overlap %.3g of the mean radius, pressure %.4g %s; %zu steps of %.4g s (t_c/%.3g)\n",

@@ -9,7 +9,11 @@
 #include <sstream>
 #include <string>
 
+#include "../../examples/installed.hpp"
+
 namespace mmtest {
+
+using ::installed;  // whether a program the tests call (ffmpeg, xvfb-run) is on the PATH
 
 inline std::string slurp(const std::filesystem::path& p) {
     std::ifstream in(p);

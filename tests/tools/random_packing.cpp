@@ -8,7 +8,6 @@
 
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 #include <string>
 
 #include <micromacro/io/packing_files.hpp>
@@ -69,7 +68,7 @@ void check_packing(std::size_t n, double pressure, double dense, bool same_seed_
             BOOST_TEST(f.position[p][a] >= f.box->first[a]);
             BOOST_TEST(f.position[p][a] < f.box->second[a]);
         }
-        solid += dim == 2 ? std::numbers::pi * f.radius[p] * f.radius[p] : 4.0 / 3.0 * std::numbers::pi * std::pow(f.radius[p], 3);
+        solid += mm::DimTraits<dim>::particle_volume(f.radius[p]);
         mean_radius += f.radius[p] / double(n);
     }
     const double fraction = solid / (f.box->second - f.box->first).prod();

@@ -144,7 +144,6 @@ BOOST_AUTO_TEST_CASE(a_lammps_dump_gives_box_and_periodic_axes_and_agrees_with_t
     for (const char* key : {"particles", "contacts", "periodic", "dt", "skin"}) BOOST_TEST(dump[key] == csv[key], key);
 }
 
-// The JSON line stays JSON whatever the file is called.
 // --write-packing: the generated lattice, written as a dump (2D without a z column) and timed
 // from the file, is the same scene: dimension, periodic axes, contacts and time step.
 BOOST_AUTO_TEST_CASE(a_written_packing_times_as_the_generated_one) {
@@ -161,6 +160,7 @@ BOOST_AUTO_TEST_CASE(a_written_packing_times_as_the_generated_one) {
     }
 }
 
+// The JSON line stays JSON whatever the file is called.
 BOOST_AUTO_TEST_CASE(file_names_are_escaped_in_the_json_line) {
     const Lattice lattice{2, 3, 1e-3};
     const std::string file = lattice.csv("odd \"name\" \\ here.csv");

@@ -1,7 +1,8 @@
 #pragma once
 // Writing a file whole or not at all: the content goes to `path`.partial, which is renamed to
 // `path` only when every byte was written; a failed write removes it and throws, and an earlier
-// file at `path` stays as it was until the rename. The state files and the packing dumps use it.
+// file at `path` stays as it was until the rename. The state files, the packing dumps and the
+// .pvd collections use it.
 #include <filesystem>
 #include <fstream>
 #include <system_error>
