@@ -1,8 +1,11 @@
 // render_snapshot: a picture like the paper's Fig. 3 from a particles .vtp (or one step of a
 // .pvd): filled disks at their true radius (spheres in 3D) coloured by potential energy (red and
-// green high, through blue to black low), a colour bar, the walls, optionally the force network.
-// The colour scale is the frame's own extent, or one for a whole series (--range MIN MAX, or
-// --range-from SERIES.pvd: up to its 99th percentile), so that frames compare by colour; --log.
+// green high, through blue to black low), a colour bar, the walls, optionally the force network
+// as tubes whose radius follows the normal force. The colour scale is the frame's own extent, or
+// one for a whole series (--range MIN MAX, or --range-from SERIES.pvd: up to its 99th
+// percentile), so that frames compare by colour; --log. A 3D box is seen from outside, or cut
+// (--slice AXIS POSITION THICKNESS) to show its interior. The frame's own numbers (the biaxial
+// program's eps_zz) are printed on the picture.
 //
 //   xvfb-run -a -s "-screen 0 1280x1024x24" render_snapshot vtk/particles.pvd --step -1
 //       --walls vtk/walls_10.vtp --contacts vtk/contacts_10.vtp -o snapshot.png   (one line)
@@ -29,6 +32,7 @@
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
 #include <vtkExecutive.h>
+#include <vtkFieldData.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
@@ -43,12 +47,14 @@
 #include <vtkSphereSource.h>
 #include <vtkTextActor.h>
 #include <vtkTextProperty.h>
+#include <vtkTubeFilter.h>
 #include <vtkWindowToImageFilter.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include "../examples/command_line.hpp"
 #include "../examples/installed.hpp"
 #include "offscreen.hpp"
+#include "slice.hpp"
 #include "snapshot_view.hpp"
 
 namespace fs = std::filesystem;
@@ -120,12 +126,27 @@ vtkSmartPointer<vtkActor> overlay(vtkRenderer* renderer, vtkPolyData* data, doub
     renderer->AddActor(actor);
     return actor;
 }
+
+/// The frame's own numbers (field data, e.g. eps_zz = 0.1), as "name = value" joined by spaces.
+std::string frame_values(vtkPolyData* frame) {
+    std::string text;
+    auto* fields = frame->GetFieldData();
+    for (int k = 0; fields && k < fields->GetNumberOfArrays(); ++k) {
+        auto* a = fields->GetArray(k);
+        if (!a || !a->GetName() || a->GetNumberOfTuples() != 1 || a->GetNumberOfComponents() != 1) continue;
+        char item[96];
+        std::snprintf(item, sizeof item, "%s%s = %.4g", text.empty() ? "" : "   ", a->GetName(), a->GetTuple1(0));
+        text += item;
+    }
+    return text;
+}
 }  // namespace
 
 int main(int argc, char** argv) {
     std::string input, walls, contacts, output = "snapshot.png", size = "1000x800", range_from;
     std::string movie;
     std::vector<double> fixed_range;
+    std::vector<std::string> slice_words;
     int step = -1, frames_per_second = 8;
     bool three_d = false, log_scale = false;
     CLI::App app{"Render particles coloured by potential energy (the paper's Fig. 3) to a PNG, off-screen. "
@@ -137,6 +158,11 @@ int main(int argc, char** argv) {
     app.add_option("-o,--output", output, "PNG file to write")->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT in pixels")->capture_default_str();
     app.add_flag("--3d", three_d, "draw spheres with lighting (default: flat disks in the plane z = 0)");
+    app.add_option("--slice", slice_words,
+                   "3D: draw only the particles whose centres lie in the slab |x_AXIS - POSITION| <= THICKNESS/2 (m; "
+                   "POSITION 'mid': the middle of each frame's particles), seen along AXIS (x, y or z), with the "
+                   "force network of --contacts in the slab; e.g. --slice y mid 0.004")
+        ->expected(3);
     auto* range_option = app.add_option("--range", fixed_range, "colour scale MIN MAX in J (default: this frame's extent)")->expected(2);
     app.add_option("--range-from", range_from,
                    "one colour scale for every frame of this .pvd series: its smallest value (with --log the 1st percentile "
@@ -152,6 +178,9 @@ int main(int argc, char** argv) {
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         const auto [width, height] = viz::parse_size(size);
+        const viz::Slice slice = viz::parse_slice(slice_words);
+        if (slice.active() && !three_d) fail("--slice cuts a 3D box: give --3d too (a 2D frame is a slice already)");
+        const auto axes = viz::image_axes(slice);
         if (!fixed_range.empty() && !(std::isfinite(fixed_range[0]) && std::isfinite(fixed_range[1]) && fixed_range[1] > fixed_range[0]))
             fail("--range " + std::to_string(fixed_range[0]) + " " + std::to_string(fixed_range[1]) + ": give MIN < MAX, both finite");
         const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
@@ -172,6 +201,8 @@ int main(int argc, char** argv) {
         // The colour scale: given, from a series, or this frame's own extent.
         std::array<double, 2> range;
         std::string scale_source = "this frame";
+        double largest_force = 0.0;  // of the force network drawn last
+        std::string last_label;      // the caption of the picture drawn last
         if (!fixed_range.empty()) {
             range = {fixed_range[0], fixed_range[1]};
             scale_source = "--range";
@@ -204,17 +235,23 @@ int main(int argc, char** argv) {
         // particles above and below the scale.
         auto draw = [&](vtkPolyData* frame, const fs::path& walls_file, const fs::path& contacts_file, const std::string& caption,
                         const fs::path& png) -> std::array<double, 2> {
-            auto* energy = frame->GetPointData()->GetArray("potential_energy");
             auto* radius = frame->GetPointData()->GetArray("radius");
-            if (!energy || !radius) fail("a frame has no potential_energy or radius array");
-            // Values beyond the scale take its end colours; how many, the colour bar says.
+            if (!frame->GetPointData()->GetArray("potential_energy") || !radius) fail("a frame has no potential_energy or radius array");
+            // The slab of this frame (its middle, for 'mid'), in picture coordinates.
+            viz::Slice cut = slice;
+            double bounds[6];
+            frame->GetBounds(bounds);
+            if (cut.middle) cut.position = 0.5 * (bounds[2 * cut.axis] + bounds[2 * cut.axis + 1]);
+            const auto shown = viz::particles_in_view(frame, cut);
+            auto* energy = shown->GetPointData()->GetArray("potential_energy");
+            // Values beyond the scale take its end colours; how many of those drawn, the colour bar says.
             std::size_t above = 0, below = 0;
             for (vtkIdType i = 0; i < energy->GetNumberOfTuples(); ++i) {
                 const double e = energy->GetTuple1(i);
                 above += e > range[1];
                 below += e < range[0];
             }
-            const double n_values = static_cast<double>(energy->GetNumberOfTuples());
+            const double n_values = std::max<double>(1.0, static_cast<double>(energy->GetNumberOfTuples()));
 
             vtkNew<vtkColorTransferFunction> colours;
             if (log_scale) colours->SetScaleToLog10();
@@ -225,7 +262,7 @@ int main(int argc, char** argv) {
             }
             colours->ClampingOn();
             vtkNew<vtkGlyph3DMapper> glyphs;
-            glyphs->SetInputData(frame);
+            glyphs->SetInputData(shown);
             vtkNew<vtkRegularPolygonSource> disk;
             disk->SetNumberOfSides(48);
             disk->SetRadius(1.0);
@@ -245,26 +282,46 @@ int main(int argc, char** argv) {
             vtkNew<vtkActor> actor;
             actor->SetMapper(glyphs);
             if (!three_d) actor->GetProperty()->LightingOff();  // exact colour-map colours on flat disks
+            // In 3D the tubes of the force network run through the spheres: these are drawn see-through.
+            if (three_d && !contacts_file.empty()) actor->GetProperty()->SetOpacity(0.35);
 
             vtkNew<vtkRenderer> renderer;
             renderer->SetBackground(viz::background[0], viz::background[1], viz::background[2]);
             renderer->AddActor(actor);
 
-            double bounds[6];
-            frame->GetBounds(bounds);
-            double rmax = radius->GetRange()[1];
-            double xlo = bounds[0] - rmax, xhi = bounds[1] + rmax, ylo = bounds[2] - rmax, yhi = bounds[3] + rmax;
+            // The picture spans the whole frame (or its walls), slab or not, so that slices and
+            // frames line up.
+            const double rmax = radius->GetRange()[1];
+            double xlo = bounds[2 * axes[0]] - rmax, xhi = bounds[2 * axes[0] + 1] + rmax;
+            double ylo = bounds[2 * axes[1]] - rmax, yhi = bounds[2 * axes[1] + 1] + rmax;
             if (!walls_file.empty()) {
                 const auto wall_data = read(walls_file, false);
                 double wb[6];
                 wall_data->GetBounds(wb);
-                xlo = wb[0], xhi = wb[1], ylo = wb[2], yhi = wb[3];
-                const auto actor = overlay(renderer, wall_data, 0.3, 3.0);
-                if (three_d) actor->GetProperty()->SetOpacity(0.15);
+                xlo = wb[2 * axes[0]], xhi = wb[2 * axes[0] + 1], ylo = wb[2 * axes[1]], yhi = wb[2 * axes[1] + 1];
+                const auto actor = overlay(renderer, viz::walls_in_view(wall_data, cut), 0.3, 3.0);
+                if (cut.active()) actor->GetProperty()->SetRepresentationToWireframe();  // the walls seen edge-on, as lines
+                else if (three_d) actor->GetProperty()->SetOpacity(0.15);
             }
             if (!contacts_file.empty()) {
-                const auto actor = overlay(renderer, read(contacts_file, false), 1.0, 1.5);
-                actor->SetPosition(0, 0, three_d ? 0.0 : 1e-3 * (yhi - ylo));  // above the disks
+                // Tubes through the contacts, the largest normal force of the frame as wide as
+                // 0.3 of the mean radius, the others in proportion.
+                auto* r = shown->GetPointData()->GetArray("radius");
+                double mean_radius = 0.0;
+                for (vtkIdType i = 0; r && i < r->GetNumberOfTuples(); ++i) mean_radius += r->GetTuple1(i) / r->GetNumberOfTuples();
+                if (!(mean_radius > 0.0)) mean_radius = rmax;
+                double largest = 0.0;
+                const auto network = viz::network_in_view(read(contacts_file, false), cut, 0.3 * mean_radius, largest);
+                vtkNew<vtkTubeFilter> tubes;
+                tubes->SetInputData(network);
+                tubes->SetVaryRadiusToVaryRadiusByAbsoluteScalar();
+                tubes->SetNumberOfSides(12);  // seen from any side about 2 r wide (within 4%)
+                tubes->CappingOn();
+                tubes->Update();
+                const auto actor = overlay(renderer, tubes->GetOutput(), three_d ? 0.1 : 1.0, 1.0);
+                if (three_d) actor->GetProperty()->LightingOn();
+                else actor->SetPosition(0, 0, 0.5 * (yhi - ylo));  // above the disks
+                largest_force = largest;
             }
 
             // A logarithmic scale's bar shows log10 of the energy on a linear axis (VTK's bar samples a
@@ -296,18 +353,28 @@ int main(int argc, char** argv) {
             for (auto* t : {bar->GetTitleTextProperty(), bar->GetLabelTextProperty()}) t->SetColor(0, 0, 0);
             renderer->AddActor2D(bar);
 
-            const auto view = viz::View::fit(xlo, xhi, ylo, yhi, width, height);
+            std::string label = caption;
+            if (const std::string values = frame_values(frame); !values.empty()) label += (label.empty() ? "" : "   ") + values;
+            if (cut.active()) {
+                char where[96];
+                std::snprintf(where, sizeof where, "%sslice %c = %.4g +- %.3g", label.empty() ? "" : "   ", "xyz"[cut.axis], cut.position,
+                              0.5 * cut.thickness);
+                label += where;
+            }
+            last_label = label;
+            const auto view = viz::View::fit(xlo, xhi, ylo, yhi, width, height, label.empty() ? 0 : 40);
             auto* camera = renderer->GetActiveCamera();
             camera->ParallelProjectionOn();
-            camera->SetFocalPoint(view.camera_x(), view.cy, 0.0);
-            camera->SetPosition(view.camera_x(), view.cy, 10.0 * (yhi - ylo + xhi - xlo));
+            const double nearest = bounds[2 * axes[2] + 1] + rmax;  // the frame's side towards the camera
+            camera->SetFocalPoint(view.camera_x(), view.cy, nearest);
+            camera->SetPosition(view.camera_x(), view.cy, nearest + 10.0 * (yhi - ylo + xhi - xlo));
             camera->SetViewUp(0, 1, 0);
             camera->SetParallelScale(view.half_height);
             renderer->ResetCameraClippingRange();
 
-            if (!caption.empty()) {
+            if (!label.empty()) {
                 vtkNew<vtkTextActor> text;
-                text->SetInput(caption.c_str());
+                text->SetInput(label.c_str());
                 text->GetTextProperty()->SetColor(0, 0, 0);
                 text->GetTextProperty()->SetFontSize(18);
                 text->SetDisplayPosition(10, height - 30);
@@ -350,10 +417,13 @@ int main(int argc, char** argv) {
             return 0;
         }
         const auto [above, below] = draw(particles, walls, contacts, "", output);
+        char network[96] = "";
+        if (!contacts.empty()) std::snprintf(network, sizeof network, "; force network: the widest tube %g N", largest_force);
         std::printf("render_snapshot: %s (%dx%d, %lld particles, colour scale %g..%g J%s from %s; %.1f%% of this frame above it, "
-                    "%.1f%% below)\n",
+                    "%.1f%% below%s)%s%s\n",
                     output.c_str(), width, height, static_cast<long long>(particles->GetNumberOfPoints()), range[0], range[1],
-                    log_scale ? ", logarithmic," : "", scale_source.c_str(), above, below);
+                    log_scale ? ", logarithmic," : "", scale_source.c_str(), above, below, network, last_label.empty() ? "" : ": ",
+                    last_label.c_str());
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "render_snapshot: %s\n", e.what());

@@ -45,16 +45,20 @@ inline std::array<double, 2> colour_scale(std::vector<double> values, bool log, 
 }
 
 /// The view: the box [lo, hi] (x, y of the image plane) fills the left 85% of the image (the
-/// colour bar takes the rest) with a 5% margin on its tighter side.
+/// colour bar takes the rest) below a strip of `caption` pixels at the top, with a 5% margin on
+/// its tighter side.
 struct View {
-    double cx, cy;      ///< world point at the middle of the drawing area
+    double cx, cy;      ///< world x at the middle of the drawing area, world y at the image's middle
     double half_height; ///< world half-height of the image (the camera's parallel scale)
     int width, height;
 
-    static View fit(double xlo, double xhi, double ylo, double yhi, int width, int height) {
-        const double area_aspect = 0.85 * width / height;
-        const double half = 0.5 * 1.05 * std::max(yhi - ylo, (xhi - xlo) / area_aspect);
-        return {0.5 * (xlo + xhi), 0.5 * (ylo + yhi), half, width, height};
+    static View fit(double xlo, double xhi, double ylo, double yhi, int width, int height, int caption = 0) {
+        const int area_height = std::max(1, height - caption);
+        const double area_aspect = 0.85 * width / area_height;
+        const double half_area = 0.5 * 1.05 * std::max(yhi - ylo, (xhi - xlo) / area_aspect);
+        const double metres_per_pixel = 2.0 * half_area / area_height;
+        return {0.5 * (xlo + xhi), 0.5 * (ylo + yhi) + 0.5 * caption * metres_per_pixel, 0.5 * height * metres_per_pixel, width,
+                height};
     }
     /// World x at the image centre (where the camera looks).
     double camera_x() const { return cx + (0.5 - 0.425) * width * (2.0 * half_height / height); }

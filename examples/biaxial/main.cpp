@@ -122,13 +122,17 @@ fs::path sibling_program(const std::string& name) {
     return {};
 }
 
-/// Snapshots (like Fig. 3) of a few VTK frames, all on the colour scale of the whole series, the
-/// plots of Fig. 4-5 and, with ffmpeg, a movie of every frame: through the X display, or through
-/// Xvfb (xvfb-run) when there is none; without either, the commands that make them later.
-void make_pictures(const fs::path& out, std::size_t frames, int dim) {
+/// Snapshots (like Fig. 3) of a few VTK frames, all on the colour scale of the whole series, with
+/// the force network (in 3D a slab through the middle of the box, two mean diameters thick, seen
+/// across y, so that the chains inside show), the plots of Fig. 4-5 and, with ffmpeg, a movie of
+/// every frame: through the X display, or through Xvfb (xvfb-run) when there is none; without
+/// either, the commands that make them later.
+void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean_radius) {
     const fs::path render = sibling_program("render_snapshot"), plot = sibling_program("plot_timeseries");
     const std::string xvfb = "xvfb-run -a -s \"-screen 0 1280x1024x24\" ";
     std::vector<std::string> commands;
+    char slice[64];
+    std::snprintf(slice, sizeof slice, " --3d --slice y mid %.6g", 4.0 * mean_radius);
     if (!plot.empty())
         commands.push_back(plot.string() + " " + (out / "timeseries.csv").string() + " --out " + (out / "plots").string());
     if (!render.empty() && frames > 0) {
@@ -141,7 +145,7 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim) {
             const std::string k = std::to_string(f);
             commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --range-from " +
                                (out / "vtk" / "particles.pvd").string() + " --walls " + (out / "vtk" / ("walls_" + k + ".vtp")).string() +
-                               " --contacts " + (out / "vtk" / ("contacts_" + k + ".vtp")).string() + (dim == 3 ? " --3d" : "") +
+                               " --contacts " + (out / "vtk" / ("contacts_" + k + ".vtp")).string() + (dim == 3 ? slice : "") +
                                " -o " + (out / "snapshots" / ("snapshot_" + k + ".png")).string());
         }
     }
@@ -228,7 +232,9 @@ int run(const Config& c, const Plan& plan) {
         fs::create_directories(dir);
         const std::string k = std::to_string(vtk_times.size());
         const auto snapshot = micromacro::take_snapshot(sim);
-        micromacro::io::write_particles(micromacro::io::particle_frame(sim), dir / ("particles_" + k + ".vtp"));
+        auto frame = micromacro::io::particle_frame(sim);
+        frame.values = {{"eps_zz", exp.eps_zz()}};
+        micromacro::io::write_particles(frame, dir / ("particles_" + k + ".vtp"));
         micromacro::io::write_contacts(snapshot, dir / ("contacts_" + k + ".vtp"));
         micromacro::io::write_walls(snapshot, dir / ("walls_" + k + ".vtp"));
         vtk_times.push_back(sim.time() - exp.load_start());
@@ -383,7 +389,7 @@ int run(const Config& c, const Plan& plan) {
     // The run is complete: its checkpoint would only let a later run in this folder resume into it.
     fs::remove(out / "checkpoint.state");
     if (terminal) std::printf("\n");
-    if (plan.pictures) make_pictures(out, vtk_times.size(), dim);
+    if (plan.pictures) make_pictures(out, vtk_times.size(), dim, c.mean_radius());
     std::printf("biaxial %dD: %zu particles, %zu steps in %.1f s (%.3g particle-steps/s); results in %s\n", dim,
                 c.particles, sim.steps_done() - steps_before, seconds, pps, out.string().c_str());
     return 0;

@@ -12,6 +12,7 @@
 
 #include <micromacro/io/vtk.hpp>
 #include <vtkCell.h>
+#include <vtkFieldData.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include "support/programs.hpp"
@@ -55,7 +56,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(particles_contacts_walls_round_trip, D, Dims) {
     std::vector<mm::Index> reversed(sim.particles().size());
     std::iota(reversed.rbegin(), reversed.rend(), mm::Index{0});
     sim.renumber(reversed);  // the ids then differ from the indices
-    const auto frame = mm::io::particle_frame(sim);
+    auto frame = mm::io::particle_frame(sim);
+    frame.values = {{"eps_zz", 0.1 / 3.0}, {"time", 2.5}};  // the frame's own numbers, as field data
     const auto snapshot = mm::take_snapshot(sim);
     mm::io::write_particles(frame, dir / "particles_0.vtp");
     mm::io::write_contacts(snapshot, dir / "contacts_0.vtp");
@@ -98,6 +100,12 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(particles_contacts_walls_round_trip, D, Dims) {
         exact &= same(pd->GetArray("stress"), i, {T(0, 0), T(0, 1), T(0, 2), T(1, 0), T(1, 1), T(1, 2), T(2, 0), T(2, 1), T(2, 2)});
     }
     BOOST_TEST(exact);
+    auto* fields = particles->GetFieldData();
+    for (const auto& [name, value] : frame.values) {
+        auto* a = fields->GetArray(name.c_str());
+        BOOST_TEST_REQUIRE(a, name);
+        BOOST_TEST((a->GetNumberOfTuples() == 1 && a->GetTuple1(0) == value), name);
+    }
     // Potential energies add up to the elastic energy (each spring split between partners).
     double sum = 0.0;
     for (double u : frame.potential_energy) sum += u;

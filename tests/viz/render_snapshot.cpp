@@ -1,8 +1,9 @@
 // render_snapshot under Xvfb: a known configuration of a few disks with known energies renders at
 // the requested size, the pixel at every centre has its colour-map colour (highest red, lowest
 // black), background pixels are background; one colour scale holds for every frame of a series
-// (--range-from), a given one (--range) and a logarithmic one (--log) colour as they say; without
-// a display it refuses with a clear message.
+// (--range-from), a given one (--range) and a logarithmic one (--log) colour as they say; a slice
+// of a 3D box shows only its slab; the force network's tubes are as wide as the forces say;
+// without a display it refuses with a clear message.
 #define BOOST_TEST_MODULE viz_render_snapshot
 #include <boost/test/unit_test.hpp>
 
@@ -15,9 +16,15 @@
 #include <vector>
 
 #include <micromacro/io/vtk.hpp>
+#include <vtkCellArray.h>
+#include <vtkCellData.h>
+#include <vtkDoubleArray.h>
 #include <vtkImageData.h>
 #include <vtkPNGReader.h>
+#include <vtkPoints.h>
+#include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkXMLPolyDataWriter.h>
 
 #include "snapshot_view.hpp"
 #include "support/programs.hpp"
@@ -261,4 +268,162 @@ BOOST_AUTO_TEST_CASE(a_movie_of_a_series) {
     const auto taken = mmtest::run_program(program, (dir / "particles.pvd").string() + " --movie " + (dir / "taken.mp4").string(), dir);
     BOOST_TEST(taken.exit_code() == 1);
     BOOST_TEST(mmtest::slurp(dir / "taken.mp4") == "an earlier movie");
+}
+
+namespace {
+// A picture's colour at a pixel (row 0 at the top) and whether it is the background.
+struct Image {
+    vtkSmartPointer<vtkImageData> data;
+    int height;
+    std::array<double, 3> rgb(int col, int row) const {
+        std::array<double, 3> c;
+        for (int k = 0; k < 3; ++k) c[k] = data->GetScalarComponentAsDouble(col, height - 1 - row, 0, k) / 255.0;
+        return c;
+    }
+    bool background(int col, int row) const { return close(rgb(col, row), viz::background); }
+};
+
+Image read_png(const fs::path& png, int height) {
+    vtkNew<vtkPNGReader> reader;
+    reader->SetFileName(png.string().c_str());
+    reader->Update();
+    return {reader->GetOutput(), height};
+}
+
+mm::io::ParticleFrame<3> spheres(const std::vector<mm::Vec<3>>& centres, double radius) {
+    mm::io::ParticleFrame<3> f;
+    f.position = centres;
+    const std::size_t n = centres.size();
+    f.radius.assign(n, radius);
+    f.potential_energy.assign(n, 1.0);
+    f.velocity.assign(n, mm::Vec<3>::Zero());
+    f.force.assign(n, mm::Vec<3>::Zero());
+    f.kinetic_energy.assign(n, 0.0);
+    f.coordination.assign(n, 0);
+    f.stress.assign(n, mm::Tensor2<3>::Zero());
+    return f;
+}
+}  // namespace
+
+// A slab of a 3D box: seen across y, only the spheres whose centres lie within the slab are drawn
+// (x to the right, z up), and the picture spans the whole box so that slices line up; 'mid' takes
+// the middle of the frame; the frame's own numbers are printed. Without --3d, or with a bad axis or
+// thickness, --slice is refused.
+BOOST_AUTO_TEST_CASE(a_slice_shows_only_the_particles_in_its_slab) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_slice_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    const double a = 1e-3;
+    // Corners of the box's x-z extent (in the slab), one sphere in front of the slab (y = 4 mm)
+    // and one behind it (y = -4 mm) where nothing in the slab covers them.
+    auto f = spheres({{0, 0, 0}, {8e-3, 0, 8e-3}, {0, 0, 8e-3}, {8e-3, 4e-3, 0}, {4e-3, -4e-3, 4e-3}}, a);
+    f.values = {{"eps_zz", 0.125}};
+    mm::io::write_particles(f, dir / "box.vtp");
+    const int width = 640, height = 480;
+    const std::string program = std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + RENDER_SNAPSHOT;
+    auto render3d = [&](const std::string& args) {
+        fs::remove(dir / "slice.png");
+        return mmtest::run_program(program, (dir / "box.vtp").string() + " --3d --size 640x480 " + args + " -o " + (dir / "slice.png").string(), dir);
+    };
+    const auto cut = render3d("--slice y 0 2e-3");
+    BOOST_TEST_REQUIRE(cut.status == 0, cut.err);
+    BOOST_TEST(cut.out.find("eps_zz = 0.125") != std::string::npos, cut.out);
+    const auto view = viz::View::fit(-a, 8e-3 + a, -a, 8e-3 + a, width, height, 40);  // x-z, below the caption
+    const auto image = read_png(dir / "slice.png", height);
+    for (auto [x, z] : {std::pair{0.0, 0.0}, std::pair{8e-3, 8e-3}, std::pair{0.0, 8e-3}}) {
+        const auto [col, row] = view.pixel(x, z);
+        BOOST_TEST(!image.background(col, row), "the sphere in the slab at x = " << x << ", z = " << z);
+    }
+    for (auto [x, z] : {std::pair{8e-3, 0.0}, std::pair{4e-3, 4e-3}}) {
+        const auto [col, row] = view.pixel(x, z);
+        BOOST_TEST(image.background(col, row), "the sphere out of the slab at x = " << x << ", z = " << z);
+    }
+    // 'mid': the middle of the centres' y extent, 0 here; a slab at y = 4 mm holds only the one in front.
+    const auto middle = render3d("--slice y mid 2e-3");
+    BOOST_TEST_REQUIRE(middle.status == 0, middle.err);
+    const auto same = read_png(dir / "slice.png", height);
+    for (auto [x, z] : {std::pair{0.0, 0.0}, std::pair{8e-3, 0.0}, std::pair{4e-3, 4e-3}}) {
+        const auto [col, row] = view.pixel(x, z);
+        BOOST_TEST(same.background(col, row) == image.background(col, row), "'mid' at x = " << x << ", z = " << z);
+    }
+    const auto front = render3d("--slice y 4e-3 2e-3");
+    BOOST_TEST_REQUIRE(front.status == 0, front.err);
+    const auto shifted = read_png(dir / "slice.png", height);
+    BOOST_TEST(!shifted.background(view.pixel(8e-3, 0.0)[0], view.pixel(8e-3, 0.0)[1]));
+    BOOST_TEST(shifted.background(view.pixel(0.0, 0.0)[0], view.pixel(0.0, 0.0)[1]));
+    for (const std::string bad : {"--slice w 0 1e-3", "--slice y 0 0", "--slice y zero 1e-3"}) {
+        const auto r = render3d(bad);
+        BOOST_TEST(r.exit_code() == 1, bad);
+        BOOST_TEST(r.err.find("--slice") != std::string::npos, bad << ": " << r.err);
+        BOOST_TEST(!fs::exists(dir / "slice.png"), bad);
+    }
+    const auto flat = mmtest::run_program(program, (dir / "box.vtp").string() + " --slice y 0 1e-3 -o " + (dir / "slice.png").string(), dir);
+    BOOST_TEST(flat.exit_code() == 1);
+    BOOST_TEST(flat.err.find("give --3d too") != std::string::npos, flat.err);
+}
+
+// The force network as tubes: a contact with twice the normal force is drawn twice as wide, the
+// largest as wide as 0.6 mean radii (tube radius 0.3 a); a contact pulling (f_n <= 0) is not drawn.
+BOOST_AUTO_TEST_CASE(the_force_network_as_tubes_scaled_by_force) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_network_test";
+    fs::remove_all(dir);
+    fs::create_directories(dir);
+    // One black disk (energy 0 on the scale 0..1) of radius 30 mm at z = 10 mm behind three
+    // horizontal lines at z = -10, 15 and 30 mm with normal forces 2, 1 and 0 N; the second disk
+    // sets the scale's top and the mean radius.
+    const double a = 30e-3;
+    mm::io::ParticleFrame<2> f;
+    f.position = {{10e-3, 10e-3}, {100e-3, 10e-3}};
+    f.potential_energy = {0.0, 1.0};
+    f.radius = {a, a};
+    f.velocity.assign(2, mm::Vec<2>::Zero());
+    f.force.assign(2, mm::Vec<2>::Zero());
+    f.kinetic_energy.assign(2, 0.0);
+    f.coordination.assign(2, 0);
+    f.stress.assign(2, mm::Tensor2<2>::Zero());
+    mm::io::write_particles(f, dir / "p.vtp");
+    {
+        vtkNew<vtkPoints> points;
+        vtkNew<vtkCellArray> lines;
+        vtkNew<vtkDoubleArray> force;
+        force->SetName("normal_force");
+        const double heights[3] = {-10e-3, 15e-3, 30e-3}, forces[3] = {2.0, 1.0, 0.0};
+        for (int k = 0; k < 3; ++k) {
+            const vtkIdType ends[2] = {points->InsertNextPoint(0.0, heights[k], 0.0), points->InsertNextPoint(20e-3, heights[k], 0.0)};
+            lines->InsertNextCell(2, ends);
+            force->InsertNextValue(forces[k]);
+        }
+        vtkNew<vtkPolyData> contacts;
+        contacts->SetPoints(points);
+        contacts->SetLines(lines);
+        contacts->GetCellData()->AddArray(force);
+        vtkNew<vtkXMLPolyDataWriter> writer;
+        writer->SetFileName((dir / "c.vtp").string().c_str());
+        writer->SetInputData(contacts);
+        BOOST_TEST_REQUIRE(writer->Write() == 1);
+    }
+    const int width = 640, height = 480;
+    const auto r = mmtest::run_program(std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + RENDER_SNAPSHOT,
+                                       (dir / "p.vtp").string() + " --contacts " + (dir / "c.vtp").string() +
+                                           " --size 640x480 -o " + (dir / "n.png").string(),
+                                       dir);
+    BOOST_TEST_REQUIRE(r.status == 0, r.err);
+    BOOST_TEST(r.out.find("the widest tube 2 N") != std::string::npos, r.out);
+    const auto image = read_png(dir / "n.png", height);
+    const auto view = viz::View::fit(10e-3 - a, 100e-3 + a, 10e-3 - a, 10e-3 + a, width, height);
+    const double metres_per_pixel = 2.0 * view.half_height / height;
+    // The white band's height at x = 10 mm, about each line.
+    auto band = [&](double z) {
+        int rows = 0;
+        const int col = view.pixel(10e-3, z)[0];
+        for (int row = view.pixel(0.0, z + 9.5e-3)[1]; row <= view.pixel(0.0, z - 9.5e-3)[1]; ++row) {
+            const auto c = image.rgb(col, row);
+            rows += c[0] > 0.5 && c[1] > 0.5 && c[2] > 0.5;
+        }
+        return rows * metres_per_pixel;
+    };
+    const double widest = band(-10e-3), half = band(15e-3);
+    BOOST_TEST(std::abs(widest - 0.6 * a) < 0.05 * 0.6 * a, "widest band " << widest << " m, tube diameter " << 0.6 * a);
+    BOOST_TEST(std::abs(half - 0.3 * a) < 0.08 * 0.3 * a, "half-force band " << half << " m, tube diameter " << 0.3 * a);
+    BOOST_TEST(band(30e-3) == 0.0, "a contact without normal force");
 }

@@ -4,7 +4,8 @@
 //   particles.vtp  points at the centres (double precision; 2D on the plane z = 0) with point
 //                  data radius, velocity, angular_velocity (rotating scenes), force,
 //                  potential_energy (Simulation::potential_energy_per_particle), kinetic_energy,
-//                  coordination and the particle stress sigma^p = 1/V^p sum_c (r_p - x_c) (x) f_c;
+//                  coordination and the particle stress sigma^p = 1/V^p sum_c (r_p - x_c) (x) f_c,
+//                  and as field data the frame's own numbers (ParticleFrame::values);
 //   contacts.vtp   one line per contact (centre to centre; centre to contact point for a wall)
 //                  with cell data normal_force, tangential_force, overlap, sliding;
 //   walls.vtp      one quad (3D) or line (2D) per wall spanning the box, with its force;
@@ -15,6 +16,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <vtkCellArray.h>
@@ -23,6 +25,7 @@
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
 #include <vtkErrorCode.h>
+#include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
 #include <vtkPoints.h>
@@ -95,6 +98,9 @@ struct ParticleFrame {
     std::vector<int> coordination;
     std::vector<Tensor2<dim>> stress;
     std::vector<long long> id;  ///< the particles' ids (empty: not written); indices change when the engine sorts
+    /// Numbers of the whole frame (the biaxial program's eps_zz, for one), written as field data:
+    /// ParaView lists them, render_snapshot prints them on the picture.
+    std::vector<std::pair<std::string, double>> values;
 };
 
 /// The frame of a simulation at its present state.
@@ -183,6 +189,11 @@ void write_particles(const ParticleFrame<dim>& f, const std::filesystem::path& p
         pd->AddArray(w);
     }
     pd->SetActiveScalars("potential_energy");
+    for (const auto& [name, value] : f.values) {
+        auto a = detail::array(name.c_str(), 1, 1);
+        a->SetValue(0, value);
+        data->GetFieldData()->AddArray(a);
+    }
     detail::write_polydata(data, path);
 }
 
