@@ -11,7 +11,8 @@ cd "$(dirname "$0")/.."
 mode=${1:-}
 case "$mode" in run|test) ;; *) echo "usage: scripts/setup.sh run|test" >&2; exit 2 ;; esac
 
-packages=(build-essential cmake libeigen3-dev libboost-test-dev libcli11-dev nlohmann-json3-dev libvtk9-dev xvfb xauth)
+packages=(build-essential cmake libeigen3-dev libboost-test-dev libcli11-dev nlohmann-json3-dev libvtk9-dev xvfb xauth
+          libopenmpi-dev openmpi-bin)
 missing=()
 for p in "${packages[@]}"; do
   dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")

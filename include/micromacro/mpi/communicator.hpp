@@ -1,0 +1,64 @@
+#pragma once
+// A Cartesian communicator over a box: the ranks arranged in dims[a] slabs per axis by
+// MPI_Dims_create and MPI_Cart_create (periodic axes wrap across ranks), each rank's place in
+// the split (CartesianSplit) and its neighbours across each face. Needs MPI (the optional
+// micromacro::mpi target).
+#include <array>
+#include <string>
+
+#include <mpi.h>
+
+#include "micromacro/core/domain.hpp"
+#include "micromacro/core/error.hpp"
+#include "micromacro/mpi/cartesian_split.hpp"
+
+namespace micromacro::mpi {
+
+/// Throws with MPI's own message when an MPI call fails (MPI_ERRORS_RETURN is set on the
+/// communicators made here).
+inline void check(int code, const char* what) {
+    if (code == MPI_SUCCESS) return;
+    char text[MPI_MAX_ERROR_STRING];
+    int length = 0;
+    MPI_Error_string(code, text, &length);
+    detail::throw_input_error(what, " failed: ", std::string(text, static_cast<std::size_t>(length)));
+}
+
+template <int dim>
+class CartesianComm {
+public:
+    /// The ranks of `parent` over `box`; dims fixed per axis where `dims` is positive, the rest
+    /// chosen by MPI_Dims_create (as even a split as the rank count allows).
+    CartesianComm(MPI_Comm parent, const Domain<dim>& box, std::array<int, dim> dims = {}) {
+        int size = 0;
+        check(MPI_Comm_size(parent, &size), "MPI_Comm_size");
+        check(MPI_Dims_create(size, dim, dims.data()), "MPI_Dims_create");
+        std::array<int, dim> periods{};
+        for (int a = 0; a < dim; ++a) periods[a] = box.periodic(a) ? 1 : 0;
+        check(MPI_Cart_create(parent, dim, dims.data(), periods.data(), 0, &comm_), "MPI_Cart_create");
+        MPI_Comm_set_errhandler(comm_, MPI_ERRORS_RETURN);
+        check(MPI_Comm_rank(comm_, &rank_), "MPI_Comm_rank");
+        std::array<int, dim> coords{};
+        check(MPI_Cart_coords(comm_, rank_, dim, coords.data()), "MPI_Cart_coords");
+        split_ = CartesianSplit<dim>::of(box, dims, coords);
+        for (int a = 0; a < dim; ++a) check(MPI_Cart_shift(comm_, a, 1, &below_[a], &above_[a]), "MPI_Cart_shift");
+    }
+    CartesianComm(const CartesianComm&) = delete;
+    CartesianComm& operator=(const CartesianComm&) = delete;
+    ~CartesianComm() { MPI_Comm_free(&comm_); }
+
+    MPI_Comm comm() const { return comm_; }
+    int rank() const { return rank_; }
+    const CartesianSplit<dim>& split() const { return split_; }
+    /// The rank across the lower (direction -1) or upper (+1) face along axis a; MPI_PROC_NULL
+    /// at an open box's end. With one slab on a periodic axis, this rank itself.
+    int neighbour(int a, int direction) const { return direction < 0 ? below_[a] : above_[a]; }
+
+private:
+    MPI_Comm comm_ = MPI_COMM_NULL;
+    int rank_ = 0;
+    CartesianSplit<dim> split_{};
+    std::array<int, dim> below_{}, above_{};
+};
+
+}  // namespace micromacro::mpi

@@ -1,0 +1,169 @@
+// The MPI layer's decomposition and halo, run under mpirun with 1-4 ranks (tests/CMakeLists.txt):
+// every particle of a periodic packing has exactly one owner; each rank receives as ghosts exactly
+// the particle images within the halo width of its subdomain (checked against every image of every
+// particle, periodic ones included); and the forces and torques on each rank's own particles,
+// computed by the serial engine from its own and ghost particles alone, are the serial run's to
+// round-off. In 2D and 3D, with the frictional law (new contacts start their springs from the
+// time they have touched, so the tangential forces are not zero).
+#define BOOST_TEST_MODULE mpi_halo
+#include <boost/test/unit_test.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <tuple>
+#include <vector>
+
+#include <micromacro/mpi/halo.hpp>
+
+#include "support/scenes.hpp"
+
+namespace mm = micromacro;
+using mmtest::Dims;
+
+namespace {
+struct MpiSession {
+    MpiSession() { MPI_Init(nullptr, nullptr); }
+    ~MpiSession() { MPI_Finalize(); }
+};
+}  // namespace
+BOOST_TEST_GLOBAL_FIXTURE(MpiSession);
+
+namespace {
+template <int dim>
+std::array<double, 3> xyz(const mm::Vec<dim>& v) {
+    return {v[0], v[1], dim == 3 ? v[2] : 0.0};
+}
+template <int dim>
+std::array<double, 3> angular(const mm::Angular<dim>& w) {
+    if constexpr (dim == 2) return {0.0, 0.0, w};
+    else return {w[0], w[1], w[2]};
+}
+
+// The same packing on every rank: n particles, radii 0.5-1.5 mm, placed at random with overlaps at
+// volume fraction 0.6 in a periodic cube, moving and turning at random.
+template <int dim>
+auto packing(std::size_t n) {
+    const double L = std::pow(n * mmtest::mean_particle_volume<dim>(0.5e-3, 1.5e-3) / 0.6, 1.0 / dim);
+    const auto p = mmtest::random_packing<dim>(n, 0.5e-3, 1.5e-3, L, 7, true, true);
+    const mm::FrictionalLinear law{mm::LinearSpringDashpot(mmtest::k, mmtest::gamma0), mm::CundallStrack(0.2 * mmtest::k, 0.02, 0.5)};
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> sim(law, mmtest::periodic_box<dim>(L));
+    std::mt19937_64 rng(11);
+    std::normal_distribution<double> N(0.0, 0.1);
+    for (std::size_t i = 0; i < p.x.size(); ++i) {
+        sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(mmtest::rho, p.r[i]));
+        for (int a = 0; a < dim; ++a) sim.particles().velocity()[i][a] = N(rng);
+        auto& w = sim.particles().template get<mm::field::AngularVelocity>()[i];
+        if constexpr (dim == 2) w = 100.0 * N(rng);
+        else w = mm::Vec<3>(100.0 * N(rng), 100.0 * N(rng), 100.0 * N(rng));
+    }
+    sim.set_time_step(mm::contact_duration(mmtest::k, mmtest::gamma0, mm::sphere_mass(mmtest::rho, 0.5e-3) / 2) / 50);
+    sim.set_skin(0.2e-3);
+    return sim;
+}
+
+template <class Sim>
+mm::mpi::ParticleRecord record(const Sim& sim, std::size_t i) {
+    const auto& p = sim.particles();
+    return {p.id(i), double(p.radius()[i]), double(p.mass()[i]), double(p.template get<mm::field::Inertia>()[i]),
+            xyz<Sim::dimension>(p.position()[i]), xyz<Sim::dimension>(p.velocity()[i]),
+            angular<Sim::dimension>(p.template get<mm::field::AngularVelocity>()[i])};
+}
+}  // namespace
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(owners_ghosts_and_forces_match_the_serial_run, D, Dims) {
+    constexpr int dim = D::value;
+    auto serial = packing<dim>(dim == 2 ? 300 : 400);
+    serial.prepare();  // the serial forces
+    const std::size_t n = serial.particles().size();
+    const mm::mpi::CartesianComm<dim> comm(MPI_COMM_WORLD, serial.domain());
+    const auto& split = comm.split();
+    const double width = 2 * 1.5e-3 + serial.skin();  // the largest contact distance plus the skin
+
+    // Owners: each particle exactly once over the ranks.
+    std::vector<mm::mpi::ParticleRecord> owned;
+    for (std::size_t i = 0; i < n; ++i)
+        if (split.owns(serial.particles().position()[i])) owned.push_back(record(serial, i));
+    std::vector<int> mine(n, 0), owners(n, 0);
+    for (const auto& p : owned) mine[p.id] = 1;
+    MPI_Allreduce(mine.data(), owners.data(), static_cast<int>(n), MPI_INT, MPI_SUM, comm.comm());
+    BOOST_TEST(std::all_of(owners.begin(), owners.end(), [](int k) { return k == 1; }));
+
+    // Ghosts: exactly the images within the halo width of the subdomain, each once.
+    const auto ghosts = mm::mpi::exchange_halo(comm, owned, width);
+    std::map<std::tuple<mm::Index, int, int, int>, int> got, expected;
+    const auto by_id = serial.particles().index_by_id();
+    auto shift_of = [&](const mm::mpi::ParticleRecord& g) {
+        std::array<int, 3> s{};
+        const auto x = xyz<dim>(serial.particles().position()[by_id[g.id]]);
+        for (int a = 0; a < dim; ++a) s[a] = static_cast<int>(std::lround((g.x[a] - x[a]) / (split.hi[a] - split.lo[a])));
+        return s;
+    };
+    bool exact_images = true;
+    for (const auto& g : ghosts) {
+        const auto s = shift_of(g);
+        ++got[{g.id, s[0], s[1], s[2]}];
+        const auto x = xyz<dim>(serial.particles().position()[by_id[g.id]]);
+        for (int a = 0; a < dim; ++a) exact_images &= g.x[a] == (s[a] == 0 ? x[a] : s[a] > 0 ? x[a] + (split.hi[a] - split.lo[a]) : x[a] - (split.hi[a] - split.lo[a]));
+    }
+    BOOST_TEST(exact_images);
+    for (std::size_t i = 0; i < n; ++i) {
+        const auto x = xyz<dim>(serial.particles().position()[i]);
+        for (int sx = -1; sx <= 1; ++sx)
+            for (int sy = -1; sy <= 1; ++sy)
+                for (int sz = (dim == 3 ? -1 : 0); sz <= (dim == 3 ? 1 : 0); ++sz) {
+                    const std::array<int, 3> s{sx, sy, sz};
+                    bool inside_grown = true, inside_own = true;
+                    for (int a = 0; a < dim; ++a) {
+                        const double L = split.hi[a] - split.lo[a];
+                        const double y = s[a] == 0 ? x[a] : s[a] > 0 ? x[a] + L : x[a] - L;
+                        inside_grown &= y >= split.sub_lo(a) - width && y < split.sub_hi(a) + width;
+                        inside_own &= s[a] == 0 && split.slab(a, y) == split.coords[a];
+                    }
+                    if (inside_grown && !inside_own) ++expected[{serial.particles().id(i), sx, sy, sz}];
+                }
+    }
+    BOOST_TEST(got.size() == expected.size());
+    BOOST_TEST((got == expected), "ghost images differ from the expected ones on rank " << comm.rank());
+
+    // Forces: the serial engine on this rank's own and ghost particles (an open box) gives its own
+    // particles the serial forces and torques.
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> local(serial.law());
+    std::vector<mm::Index> global;
+    for (const auto* set : std::array<const std::vector<mm::mpi::ParticleRecord>*, 2>{&owned, &ghosts})
+        for (const auto& p : *set) {
+            mm::Vec<dim> x, v;
+            for (int a = 0; a < dim; ++a) x[a] = p.x[a], v[a] = p.v[a];
+            const std::size_t i = local.particles().add(x, p.radius, p.mass, p.inertia);
+            local.particles().velocity()[i] = v;
+            auto& w = local.particles().template get<mm::field::AngularVelocity>()[i];
+            if constexpr (dim == 2) w = p.w[2];
+            else w = mm::Vec<3>(p.w[0], p.w[1], p.w[2]);
+            global.push_back(p.id);
+        }
+    local.set_time_step(serial.time_step());
+    local.set_skin(serial.skin());
+    local.prepare();
+    // The largest serial force and torque, for relative tolerances: torques come from the
+    // tangential forces alone, which are far smaller than the normal ones here, so they are
+    // compared on their own scale.
+    double scale = 0.0, torque_scale = 0.0;
+    for (const auto& f : serial.particles().force()) scale = std::max(scale, f.norm());
+    const auto& torque = serial.particles().template get<mm::field::Torque>();
+    const auto& local_torque = local.particles().template get<mm::field::Torque>();
+    for (const auto& t : torque) torque_scale = std::max(torque_scale, std::abs(mm::DimTraits<dim>::squared_norm(t)));
+    torque_scale = std::sqrt(torque_scale);
+    BOOST_TEST_REQUIRE(torque_scale > 0.0);
+    double worst = 0.0, worst_torque = 0.0;
+    for (std::size_t i = 0; i < local.particles().size(); ++i) {
+        const std::size_t k = local.particles().id(i);  // the order added
+        if (k >= owned.size()) continue;                  // a ghost: its force is not all there
+        const std::size_t s = by_id[global[k]];
+        worst = std::max(worst, (local.particles().force()[i] - serial.particles().force()[s]).norm() / scale);
+        const auto dt = local_torque[i] - torque[s];
+        worst_torque = std::max(worst_torque, std::sqrt(mm::DimTraits<dim>::squared_norm(dt)) / torque_scale);
+    }
+    BOOST_TEST(worst < 1e-11, "rank " << comm.rank() << ": largest force difference " << worst << " of the largest force");
+    BOOST_TEST(worst_torque < 1e-11, "rank " << comm.rank() << ": largest torque difference " << worst_torque);
+}
