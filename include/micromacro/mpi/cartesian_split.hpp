@@ -27,10 +27,10 @@ struct CartesianSplit {
         for (int a = 0; a < dim; ++a) {
             s.periodic[a] = box.periodic(a);
             if (dims[a] < 1 || coords[a] < 0 || coords[a] >= dims[a])
-                detail::throw_input_error("CartesianSplit: axis ", a, " has ", dims[a], " slabs and coordinate ", coords[a],
+                micromacro::detail::throw_input_error("CartesianSplit: axis ", a, " has ", dims[a], " slabs and coordinate ", coords[a],
                                           "; give at least one slab and a coordinate in 0..slabs-1");
             if (!(box.hi()[a] > box.lo()[a]))
-                detail::throw_input_error("CartesianSplit: axis ", a, " of the box is empty (lo = ", box.lo()[a], ", hi = ",
+                micromacro::detail::throw_input_error("CartesianSplit: axis ", a, " of the box is empty (lo = ", box.lo()[a], ", hi = ",
                                           box.hi()[a], "); a split needs a bounded box");
         }
         return s;
@@ -65,7 +65,7 @@ struct CartesianSplit {
             if (dims[a] == 1 && !periodic[a]) continue;
             const double slab_width = (hi[a] - lo[a]) / dims[a];
             if (!(width <= slab_width))
-                detail::throw_input_error("the halo of ", width, " m (the largest contact distance plus the skin) is wider than the ",
+                micromacro::detail::throw_input_error("the halo of ", width, " m (the largest contact distance plus the skin) is wider than the ",
                                           slab_width, " m slabs along axis ", a,
                                           "; use fewer ranks along that axis or a larger box");
         }

@@ -21,7 +21,7 @@ inline void check(int code, const char* what) {
     char text[MPI_MAX_ERROR_STRING];
     int length = 0;
     MPI_Error_string(code, text, &length);
-    detail::throw_input_error(what, " failed: ", std::string(text, static_cast<std::size_t>(length)));
+    micromacro::detail::throw_input_error(what, " failed: ", std::string(text, static_cast<std::size_t>(length)));
 }
 
 template <int dim>

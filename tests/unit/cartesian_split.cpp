@@ -1,0 +1,58 @@
+// The MPI layer's split of a box into slabs (no MPI needed): every point has exactly one owner,
+// also on a slab boundary and whatever the rounding of the boundaries; points outside an open
+// box go to the end slabs; a halo wider than a slab is refused with the numbers and the fix.
+#define BOOST_TEST_MODULE unit_cartesian_split
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+#include <string>
+
+#include <micromacro/mpi/cartesian_split.hpp>
+
+namespace mm = micromacro;
+
+BOOST_AUTO_TEST_CASE(every_point_has_one_owner) {
+    // Three slabs of a box whose boundaries 0.1 + 0.7 c / 3 do not round exactly.
+    const mm::Domain<2> box(mm::Vec<2>(0.1, -0.2), mm::Vec<2>(0.8, 0.5), {true, false});
+    std::mt19937_64 rng(5);
+    std::uniform_real_distribution<double> U(-0.3, 0.9);
+    std::vector<mm::Vec<2>> points;
+    for (int k = 0; k < 2000; ++k) points.push_back(mm::Vec<2>(U(rng), U(rng)));
+    const auto probe = mm::mpi::CartesianSplit<2>::of(box, {3, 2}, {0, 0});
+    for (int c = 0; c <= 3; ++c)  // on a boundary, and the neighbouring doubles either side of it
+        for (double x : {probe.boundary(0, c), std::nextafter(probe.boundary(0, c), -1.0), std::nextafter(probe.boundary(0, c), 2.0)})
+            points.push_back(mm::Vec<2>(x, 0.15));
+    for (const auto& x : points) {
+        int owners = 0;
+        for (int cx = 0; cx < 3; ++cx)
+            for (int cy = 0; cy < 2; ++cy) {
+                const auto split = mm::mpi::CartesianSplit<2>::of(box, {3, 2}, {cx, cy});
+                if (split.owns(x)) {
+                    ++owners;
+                    // Inside the box, the owner's subdomain holds the point as [sub_lo, sub_hi).
+                    for (int a = 0; a < 2; ++a)
+                        if (x[a] >= box.lo()[a] && x[a] < box.hi()[a])
+                            BOOST_TEST((x[a] >= split.sub_lo(a) && x[a] < split.sub_hi(a)), "axis " << a << " at " << x[a]);
+                }
+            }
+        BOOST_TEST(owners == 1, "point " << x.transpose() << " has " << owners << " owners");
+    }
+    BOOST_TEST(probe.boundary(0, 3) == 0.8);  // the last slab ends at the box's end exactly
+}
+
+BOOST_AUTO_TEST_CASE(a_halo_wider_than_a_slab_is_refused) {
+    const mm::Domain<3> box(mm::Vec<3>::Zero(), mm::Vec<3>(0.04, 0.01, 0.02), {true, true, false});
+    const auto split = mm::mpi::CartesianSplit<3>::of(box, {4, 1, 2}, {1, 0, 1});
+    BOOST_CHECK_NO_THROW(split.check_halo(0.009));  // x slabs 0.01 wide; y one periodic slab 0.01; z 0.01
+    try {
+        split.check_halo(0.011);
+        BOOST_FAIL("a halo of 0.011 m across 0.01 m slabs was accepted");
+    } catch (const mm::InputError& e) {
+        const std::string m = e.what();
+        BOOST_TEST(m.find("0.011") != std::string::npos, m);
+        BOOST_TEST(m.find("0.01 m slabs along axis 0") != std::string::npos, m);
+        BOOST_TEST(m.find("use fewer ranks") != std::string::npos, m);
+    }
+    BOOST_CHECK_THROW((mm::mpi::CartesianSplit<3>::of(box, {4, 1, 2}, {4, 0, 0})), mm::InputError);  // no slab 4 of 4
+}
