@@ -1,10 +1,11 @@
 // The MPI layer's decomposition and halo, run under mpirun with 1-4 ranks (tests/CMakeLists.txt):
 // every particle of a periodic packing has exactly one owner; each rank receives as ghosts exactly
 // the particle images within the halo width of its subdomain (checked against every image of every
-// particle, periodic ones included); and the forces and torques on each rank's own particles,
+// particle, periodic ones included); the forces and torques on each rank's own particles,
 // computed by the serial engine from its own and ghost particles alone, are the serial run's to
-// round-off. In 2D and 3D, with the frictional law (new contacts start their springs from the
-// time they have touched, so the tangential forces are not zero).
+// round-off; and a refresh brings every ghost its owner's new state. In 2D and 3D, with the
+// frictional law (new contacts start their springs from the time they have touched, so the
+// tangential forces are not zero).
 #define BOOST_TEST_MODULE mpi_halo
 #include <boost/test/unit_test.hpp>
 
@@ -91,7 +92,8 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(owners_ghosts_and_forces_match_the_serial_run, D, 
     BOOST_TEST(std::all_of(owners.begin(), owners.end(), [](int k) { return k == 1; }));
 
     // Ghosts: exactly the images within the halo width of the subdomain, each once.
-    const auto ghosts = mm::mpi::exchange_halo(comm, owned, width);
+    const mm::mpi::Halo<dim> halo(comm, owned, width);
+    const auto& ghosts = halo.ghosts();
     std::map<std::tuple<mm::Index, int, int, int>, int> got, expected;
     const auto by_id = serial.particles().index_by_id();
     auto shift_of = [&](const mm::mpi::ParticleRecord& g) {
@@ -166,4 +168,45 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(owners_ghosts_and_forces_match_the_serial_run, D, 
     }
     BOOST_TEST(worst < 1e-11, "rank " << comm.rank() << ": largest force difference " << worst << " of the largest force");
     BOOST_TEST(worst_torque < 1e-11, "rank " << comm.rank() << ": largest torque difference " << worst_torque);
+}
+
+// A refresh sends the owners' new positions, velocities and angular velocities along the swaps of
+// the halo's building: every ghost then equals the same image in a halo built afresh from the
+// moved particles (moved by far less than the distance at which the halo's membership changes).
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_refresh_brings_the_ghosts_their_owners_new_state, D, Dims) {
+    constexpr int dim = D::value;
+    auto serial = packing<dim>(dim == 2 ? 300 : 400);
+    const mm::mpi::CartesianComm<dim> comm(MPI_COMM_WORLD, serial.domain());
+    const double width = 2 * 1.5e-3 + serial.skin();
+    std::vector<mm::mpi::ParticleRecord> owned;
+    for (std::size_t i = 0; i < serial.particles().size(); ++i)
+        if (comm.split().owns(serial.particles().position()[i])) owned.push_back(record(serial, i));
+    mm::mpi::Halo<dim> halo(comm, owned, width);
+    std::mt19937_64 rng(17 + comm.rank());
+    std::normal_distribution<double> N(0.0, 1.0);
+    for (auto& p : owned)
+        for (int a = 0; a < 3; ++a) {
+            if (a < dim) p.x[a] += 1e-9 * N(rng);  // 1 nm: the owners stay, the halo's members too (almost surely)
+            p.v[a] = N(rng);
+            p.w[a] = N(rng);
+        }
+    halo.refresh(comm, owned);
+    const mm::mpi::Halo<dim> fresh(comm, owned, width);
+    BOOST_TEST_REQUIRE(fresh.ghosts().size() == halo.ghosts().size());
+    bool same = true;
+    for (std::size_t k = 0; k < fresh.ghosts().size(); ++k) {
+        const auto &a = halo.ghosts()[k], &b = fresh.ghosts()[k];
+        same &= a.id == b.id && a.x == b.x && a.v == b.v && a.w == b.w && a.radius == b.radius;
+    }
+    BOOST_TEST(same, "rank " << comm.rank() << ": a refreshed ghost differs from the fresh halo's");
+    // The refresh moved the ghosts: they are not the state they were built with.
+    const mm::mpi::Halo<dim> before(comm, [&] {
+        std::vector<mm::mpi::ParticleRecord> o;
+        for (std::size_t i = 0; i < serial.particles().size(); ++i)
+            if (comm.split().owns(serial.particles().position()[i])) o.push_back(record(serial, i));
+        return o;
+    }(), width);
+    std::size_t moved = 0;
+    for (std::size_t k = 0; k < before.ghosts().size() && k < halo.ghosts().size(); ++k) moved += before.ghosts()[k].v != halo.ghosts()[k].v;
+    BOOST_TEST(moved == halo.ghosts().size());
 }

@@ -1,11 +1,13 @@
 #pragma once
 // Ghost particles: copies of the particles within a halo width of a rank's subdomain, from the
 // ranks that own them, placed where this rank sees them (shifted by a box length across a
-// periodic boundary). The exchange runs axis by axis, each axis both ways, and passes on the
-// ghosts already received, so that particles diagonally across a corner arrive too (as in
-// LAMMPS's Comm::borders): afterwards a rank holds every particle image whose position lies
-// within `width` of its subdomain (the subdomain grown by `width` on every side with a
-// neighbour), each once. Needs a halo no wider than a slab (CartesianSplit::check_halo).
+// periodic boundary). Building a Halo (LAMMPS's Comm::borders) runs axis by axis, each axis both
+// ways, and passes on the ghosts already received, so that particles diagonally across a corner
+// arrive too: afterwards a rank holds every particle image whose position lies within `width` of
+// its subdomain (the subdomain grown by `width` on every side with a neighbour), each once.
+// refresh() (LAMMPS's forward_comm) sends the same particles' new states along the same swaps,
+// for the steps until the next rebuild. Needs a halo no wider than a slab
+// (CartesianSplit::check_halo).
 #include <array>
 #include <cstddef>
 #include <type_traits>
@@ -28,7 +30,7 @@ struct ParticleRecord {
 };
 static_assert(std::is_trivially_copyable_v<ParticleRecord>);
 
-namespace detail {
+namespace halo_detail {
 /// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL).
 inline std::vector<ParticleRecord> shift(MPI_Comm comm, const std::vector<ParticleRecord>& out, int to, int from) {
     unsigned long long sending = out.size(), receiving = 0;
@@ -42,37 +44,76 @@ inline std::vector<ParticleRecord> shift(MPI_Comm comm, const std::vector<Partic
           "MPI_Sendrecv (halo particles)");
     return in;
 }
-}  // namespace detail
+}  // namespace halo_detail
 
-/// The ghosts of this rank: every image of another rank's particle (or, with one slab on a
-/// periodic axis, of its own) within `width` of this rank's subdomain. `owned` are the
-/// particles this rank owns, at positions inside its subdomain.
 template <int dim>
-std::vector<ParticleRecord> exchange_halo(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned, double width) {
-    const CartesianSplit<dim>& split = comm.split();
-    split.check_halo(width);
-    std::vector<ParticleRecord> ghosts;
-    for (int a = 0; a < dim; ++a) {
-        const double lo = split.sub_lo(a), hi = split.sub_hi(a), length = split.hi[a] - split.lo[a];
-        // What goes down (to the rank below) and up, chosen from the owned particles and the
-        // ghosts received along the earlier axes, before this axis's ghosts are added.
-        std::array<std::vector<ParticleRecord>, 2> out;
-        for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &ghosts})
-            for (const ParticleRecord& p : *set) {
-                if (p.x[a] < lo + width) out[0].push_back(p);
-                if (p.x[a] >= hi - width) out[1].push_back(p);
+class Halo {
+public:
+    /// The ghosts of this rank: every image of another rank's particle (or, with one slab on a
+    /// periodic axis, of its own) within `width` of this rank's subdomain. `owned` are the
+    /// particles this rank owns, at positions inside its subdomain.
+    Halo(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned, double width) {
+        const CartesianSplit<dim>& split = comm.split();
+        split.check_halo(width);
+        for (int a = 0; a < dim; ++a) {
+            const double lo = split.sub_lo(a), hi = split.sub_hi(a), length = split.hi[a] - split.lo[a];
+            // What goes down (to the rank below) and up, chosen from the owned particles and the
+            // ghosts received along the earlier axes, before this axis's ghosts are added.
+            Swap down{a, -1, split.coords[a] == 0 ? length : 0.0, {}, 0, 0};
+            Swap up{a, +1, split.coords[a] == split.dims[a] - 1 ? -length : 0.0, {}, 0, 0};
+            const std::size_t known = owned.size() + ghosts_.size();
+            for (std::size_t k = 0; k < known; ++k) {
+                const ParticleRecord& p = k < owned.size() ? owned[k] : ghosts_[k - owned.size()];
+                if (p.x[a] < lo + width) down.sent.push_back(k);
+                if (p.x[a] >= hi - width) up.sent.push_back(k);
             }
-        // Across the box's ends a periodic axis wraps: the image arrives a box length away.
-        if (split.coords[a] == 0)
-            for (auto& p : out[0]) p.x[a] += length;
-        if (split.coords[a] == split.dims[a] - 1)
-            for (auto& p : out[1]) p.x[a] -= length;
-        const auto from_above = detail::shift(comm.comm(), out[0], comm.neighbour(a, -1), comm.neighbour(a, +1));
-        const auto from_below = detail::shift(comm.comm(), out[1], comm.neighbour(a, +1), comm.neighbour(a, -1));
-        ghosts.insert(ghosts.end(), from_above.begin(), from_above.end());
-        ghosts.insert(ghosts.end(), from_below.begin(), from_below.end());
+            for (Swap* s : {&down, &up}) {
+                s->received_begin = ghosts_.size();
+                const auto in = send(comm, *s, owned);
+                s->received_count = in.size();
+                ghosts_.insert(ghosts_.end(), in.begin(), in.end());
+                swaps_.push_back(std::move(*s));
+            }
+        }
     }
-    return ghosts;
-}
+
+    const std::vector<ParticleRecord>& ghosts() const { return ghosts_; }
+
+    /// The ghosts' positions, velocities and angular velocities from their owners' present ones:
+    /// `owned` lists the same particles in the same order as when the halo was built.
+    void refresh(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned) {
+        for (const Swap& s : swaps_) {
+            const auto in = send(comm, s, owned);
+            if (in.size() != s.received_count)
+                micromacro::detail::throw_input_error("Halo::refresh received ", in.size(), " particles where the halo holds ",
+                                                      s.received_count, "; build a new Halo after particles changed owners");
+            for (std::size_t k = 0; k < in.size(); ++k) ghosts_[s.received_begin + k] = in[k];
+        }
+    }
+
+private:
+    /// One exchange across a face: which of the owned and ghost particles go (their indices in
+    /// owned followed by ghosts), shifted by `shift` along `axis` (a box length across the
+    /// box's end on a periodic axis), and where what comes back lands in the ghosts.
+    struct Swap {
+        int axis, direction;
+        double shift;
+        std::vector<std::size_t> sent;
+        std::size_t received_begin, received_count;
+    };
+
+    std::vector<ParticleRecord> send(const CartesianComm<dim>& comm, const Swap& s, const std::vector<ParticleRecord>& owned) const {
+        std::vector<ParticleRecord> out;
+        out.reserve(s.sent.size());
+        for (const std::size_t k : s.sent) {
+            out.push_back(k < owned.size() ? owned[k] : ghosts_[k - owned.size()]);
+            out.back().x[s.axis] += s.shift;
+        }
+        return halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction));
+    }
+
+    std::vector<Swap> swaps_;
+    std::vector<ParticleRecord> ghosts_;
+};
 
 }  // namespace micromacro::mpi
