@@ -66,6 +66,7 @@ public:
     using T = DimTraits<dim>;
     using ParticleSet = Particles<dim, rotation, Real>;
     using History = typename Law::template History<dim>;
+    using IntegratorPolicy = Integrator;
 
     explicit BasicSimulation(Law law, Domain<dim> domain = {}, Boundary walls = {}, Integrator integrator = {},
                              Neighbors neighbors = {}, BodyForces... forces)
