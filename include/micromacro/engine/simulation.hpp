@@ -237,6 +237,12 @@ public:
         const auto [walls, wall_contacts] = wall_parts();
         detail::visit_contacts<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, f);
     }
+    /// Calls f(i, j, history) for every candidate pair (i < j) of the list, the history as the last
+    /// evaluation left it and open to change: how a distributed run hands springs between ranks.
+    template <class F>
+    void visit_pair_histories(F&& f) requires Law::has_history {
+        for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_.pairs()[c].i, pairs_.pairs()[c].j, pairs_.history(c));
+    }
 
     /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes),
     /// a periodic box (diagonal F only), and every tangential spring, which takes up the
