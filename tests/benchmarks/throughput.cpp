@@ -43,6 +43,7 @@
 
 #include "../../examples/command_line.hpp"
 #include "../../examples/standard_output.hpp"
+#include "lattice.hpp"
 
 namespace mm = micromacro;
 
@@ -80,25 +81,6 @@ std::string json_string(const std::string& text) {
     return nlohmann::json(text).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
 }
 
-template <int dim>
-void fill_lattice(std::vector<mm::Vec<dim>>& x, std::vector<double>& r, double& L, std::size_t n, unsigned seed) {
-    const int per_side = static_cast<int>(std::ceil(std::pow(double(n), 1.0 / dim) - 1e-9));
-    // Each periodic axis must hold two interaction ranges (2.2 spacings with the default skin).
-    if (per_side < 3)
-        mm::detail::throw_input_error("--particles ", n, " makes a lattice ", per_side, " particles wide, and the periodic box "
-                                      "needs at least 3 per side; use --particles ", dim == 2 ? 9 : 27, " or more");
-    const double spacing = 2e-3;
-    L = per_side * spacing;
-    std::mt19937_64 rng(seed);
-    std::uniform_real_distribution<double> U(-1.0, 1.0);
-    for (std::size_t i = 0; i < n; ++i) {
-        mm::Vec<dim> p;
-        for (int a = 0, t = static_cast<int>(i); a < dim; ++a, t /= per_side) p[a] = (t % per_side + 0.5) * spacing + 2e-8 * U(rng);
-        x.push_back(p);
-        r.push_back(0.5 * spacing * 1.0001);  // overlap 1e-4 of a diameter with the lattice neighbours
-    }
-}
-
 // Whether the engine's arithmetic here fuses multiplies and adds (built with MICROMACRO_FMA, for a
 // CPU with FMA instructions): part of the configuration, it changes the speed and the last bits.
 #if defined(MICROMACRO_FP_CONTRACT) && defined(__FP_FAST_FMA)
@@ -114,7 +96,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
     mm::Domain<dim> domain;
     if (o.packing.empty()) {
         double L = 0;
-        fill_lattice<dim>(x, r, L, o.particles, 1);
+        benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
         domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
     } else {
         auto f = mm::io::read_packing<dim>(o.packing, o.format);

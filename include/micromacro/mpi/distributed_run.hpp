@@ -68,10 +68,15 @@ public:
     Index global_id(std::size_t i) const { return global_[local_->particles().id(i)]; }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
+    /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
+    std::size_t halo_bytes_per_step() const { return halo_->bytes_per_refresh(); }
+    std::size_t halo_messages_per_step() const { return halo_->messages_per_refresh(comm_); }
 
     void step() { typename Sim::IntegratorPolicy{}.step(*this, dt_); }
+    /// `steps` steps, each closing kick merged into the next step's pass as the engine's run()
+    /// does: the same bits as calling step() that often, a pass over the particles less per step.
     void run(std::size_t steps) {
-        for (std::size_t k = 0; k < steps; ++k) step();
+        if (steps > 0) typename Sim::IntegratorPolicy{}.run(*this, dt_, steps);
     }
 
     // ---- the stages the integrator policy calls ------------------------------------------------
@@ -136,10 +141,7 @@ private:
             redistribute();
             return;
         }
-        std::vector<ParticleRecord> owned;
-        owned.reserve(owned_);
-        for (std::size_t i = 0; i < owned_; ++i) owned.push_back(record(p, i, global_[i]));
-        halo_->refresh(comm_, owned);
+        halo_->refresh(comm_, [&](std::size_t i) { return record(p, i, global_[i]); });
         const auto& ghosts = halo_->ghosts();
         for (std::size_t k = 0; k < ghosts.size(); ++k) write_motion(owned_ + k, ghosts[k]);
     }

@@ -31,12 +31,15 @@ struct ParticleRecord {
 static_assert(std::is_trivially_copyable_v<ParticleRecord>);
 
 namespace halo_detail {
-/// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL).
-inline std::vector<ParticleRecord> shift(MPI_Comm comm, const std::vector<ParticleRecord>& out, int to, int from) {
-    unsigned long long sending = out.size(), receiving = 0;
-    check(MPI_Sendrecv(&sending, 1, MPI_UNSIGNED_LONG_LONG, to, 0, &receiving, 1, MPI_UNSIGNED_LONG_LONG, from, 0, comm,
-                       MPI_STATUS_IGNORE),
-          "MPI_Sendrecv (halo counts)");
+/// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL);
+/// `expected`: the count that comes, when known (a refresh), else it is sent first.
+inline std::vector<ParticleRecord> shift(MPI_Comm comm, const std::vector<ParticleRecord>& out, int to, int from,
+                                         long long expected = -1) {
+    unsigned long long sending = out.size(), receiving = expected < 0 ? 0 : static_cast<unsigned long long>(expected);
+    if (expected < 0)
+        check(MPI_Sendrecv(&sending, 1, MPI_UNSIGNED_LONG_LONG, to, 0, &receiving, 1, MPI_UNSIGNED_LONG_LONG, from, 0, comm,
+                           MPI_STATUS_IGNORE),
+              "MPI_Sendrecv (halo counts)");
     std::vector<ParticleRecord> in(receiving);
     const int out_bytes = static_cast<int>(out.size() * sizeof(ParticleRecord));
     const int in_bytes = static_cast<int>(in.size() * sizeof(ParticleRecord));
@@ -55,6 +58,7 @@ public:
     Halo(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned, double width) {
         const CartesianSplit<dim>& split = comm.split();
         split.check_halo(width);
+        owned_count_ = owned.size();
         for (int a = 0; a < dim; ++a) {
             const double lo = split.sub_lo(a), hi = split.sub_hi(a), length = split.hi[a] - split.lo[a];
             // What goes down (to the rank below) and up, chosen from the owned particles and the
@@ -69,7 +73,7 @@ public:
             }
             for (Swap* s : {&down, &up}) {
                 s->received_begin = ghosts_.size();
-                const auto in = send(comm, *s, owned);
+                const auto in = send(comm, *s, [&](std::size_t k) { return owned[k]; }, -1);
                 s->received_count = in.size();
                 ghosts_.insert(ghosts_.end(), in.begin(), in.end());
                 swaps_.push_back(std::move(*s));
@@ -82,13 +86,29 @@ public:
     /// The ghosts' positions, velocities and angular velocities from their owners' present ones:
     /// `owned` lists the same particles in the same order as when the halo was built.
     void refresh(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned) {
+        refresh(comm, [&](std::size_t k) { return owned[k]; });
+    }
+    /// The same with owned particle k's present state from `owned(k)`, so that only the particles
+    /// sent are read.
+    template <class Owned>
+        requires std::is_invocable_r_v<ParticleRecord, Owned, std::size_t>
+    void refresh(const CartesianComm<dim>& comm, Owned&& owned) {
         for (const Swap& s : swaps_) {
-            const auto in = send(comm, s, owned);
-            if (in.size() != s.received_count)
-                micromacro::detail::throw_input_error("Halo::refresh received ", in.size(), " particles where the halo holds ",
-                                                      s.received_count, "; build a new Halo after particles changed owners");
+            const auto in = send(comm, s, owned, static_cast<long long>(s.received_count));
             for (std::size_t k = 0; k < in.size(); ++k) ghosts_[s.received_begin + k] = in[k];
         }
+    }
+
+    /// What a refresh sends from this rank: bytes and messages (one per swap with a neighbour).
+    std::size_t bytes_per_refresh() const {
+        std::size_t n = 0;
+        for (const Swap& s : swaps_) n += s.sent.size() * sizeof(ParticleRecord);
+        return n;
+    }
+    std::size_t messages_per_refresh(const CartesianComm<dim>& comm) const {
+        std::size_t n = 0;
+        for (const Swap& s : swaps_) n += comm.neighbour(s.axis, s.direction) != MPI_PROC_NULL;
+        return n;
     }
 
 private:
@@ -102,18 +122,21 @@ private:
         std::size_t received_begin, received_count;
     };
 
-    std::vector<ParticleRecord> send(const CartesianComm<dim>& comm, const Swap& s, const std::vector<ParticleRecord>& owned) const {
+    template <class Owned>
+    std::vector<ParticleRecord> send(const CartesianComm<dim>& comm, const Swap& s, Owned&& owned, long long expected) const {
         std::vector<ParticleRecord> out;
         out.reserve(s.sent.size());
         for (const std::size_t k : s.sent) {
-            out.push_back(k < owned.size() ? owned[k] : ghosts_[k - owned.size()]);
+            out.push_back(k < owned_count_ ? owned(k) : ghosts_[k - owned_count_]);
             out.back().x[s.axis] += s.shift;
         }
-        return halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction));
+        return halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction),
+                                  expected);
     }
 
     std::vector<Swap> swaps_;
     std::vector<ParticleRecord> ghosts_;
+    std::size_t owned_count_ = 0;
 };
 
 }  // namespace micromacro::mpi

@@ -1,0 +1,102 @@
+// throughput_mpi: the serial engine over MPI ranks (mpi::DistributedRun) on the benchmarks' lattice
+// (tests/benchmarks/lattice.hpp) with the paper's frictional law, under mpirun: particle-steps per
+// second in all and per rank, the halo traffic (bytes per particle-step and messages per step), the
+// load imbalance (the most particles a rank owns over the mean) and the redistributions.
+//
+//   mpirun -np 2 throughput_mpi --dim 2 --particles 200000 --steps 200
+//
+// Every rank builds the whole lattice and keeps its own part: the set-up's memory grows with the
+// whole scene (fine for the sizes timed here), the steps' with a rank's part. Timed: the steps,
+// between barriers, after the first forces.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <numeric>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+#include <mpi.h>
+
+#include <micromacro/micromacro.hpp>
+#include <micromacro/mpi/distributed_run.hpp>
+
+#include "../../examples/command_line.hpp"
+#include "lattice.hpp"
+
+namespace mm = micromacro;
+
+namespace {
+struct Options {
+    int dim = 2;
+    std::size_t particles = 20000, steps = 200;
+    bool json = false;
+};
+
+template <int dim>
+int run(const Options& o) {
+    std::vector<mm::Vec<dim>> x;
+    std::vector<double> r;
+    double L = 0.0;
+    benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
+    const double density = 2000.0, k = 1e5, gamma_n = 0.1;
+    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma_n), mm::CundallStrack(2e4, 0.02, 0.5)};
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> whole(law, mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L)));
+    for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(density, r[i]));
+    const double tc = mm::contact_duration(k, gamma_n, 0.5 * mm::sphere_mass(density, r[0]));
+    whole.set_time_step(tc / 50);
+    whole.set_skin(0.2 * r[0]);  // the engine's default: a fifth of the mean radius
+    mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
+    MPI_Barrier(MPI_COMM_WORLD);
+    const auto start = std::chrono::steady_clock::now();
+    run.run(o.steps);
+    MPI_Barrier(MPI_COMM_WORLD);
+    const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    int ranks = 1, rank = 0;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    const unsigned long long mine[3] = {run.owned(), run.halo_bytes_per_step(), run.halo_messages_per_step()};
+    unsigned long long most[3], sum[3];
+    MPI_Reduce(mine, most, 3, MPI_UNSIGNED_LONG_LONG, MPI_MAX, 0, MPI_COMM_WORLD);
+    MPI_Reduce(mine, sum, 3, MPI_UNSIGNED_LONG_LONG, MPI_SUM, 0, MPI_COMM_WORLD);
+    if (rank != 0) return 0;
+    const double n = static_cast<double>(x.size()), pps = n * o.steps / seconds;
+    const double imbalance = most[0] / (sum[0] / double(ranks)), halo = sum[1] / n;
+    const auto& dims = run.comm().split().dims;
+    std::string split = std::to_string(dims[0]);
+    for (int a = 1; a < dim; ++a) split += "x" + std::to_string(dims[a]);
+    if (o.json)
+        std::printf("{\"dim\": %d, \"particles\": %zu, \"steps\": %zu, \"ranks\": %d, \"split\": \"%s\", \"seconds\": %.6g, "
+                    "\"particle_steps_per_second\": %.6g, \"per_rank\": %.6g, \"halo_bytes_per_particle_step\": %.4g, "
+                    "\"halo_messages_per_step\": %llu, \"imbalance\": %.4f, \"redistributions\": %zu}\n",
+                    dim, x.size(), o.steps, ranks, split.c_str(), seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions());
+    else
+        std::printf("%dD frictional lattice: %zu particles on %d ranks (%s), %zu steps in %.3f s: %.3g particle-steps/s "
+                    "(%.3g per rank); halo %.1f bytes per particle-step, at most %llu messages per step and rank; "
+                    "imbalance %.3f; %zu redistributions\n",
+                    dim, x.size(), ranks, split.c_str(), o.steps, seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions());
+    return 0;
+}
+}  // namespace
+
+int main(int argc, char** argv) {
+    MPI_Init(&argc, &argv);
+    Options o;
+    CLI::App app{"Particle-steps per second of the serial engine over MPI ranks (run under mpirun)"};
+    app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
+    app.add_option("--particles", o.particles, "particles of the lattice")->capture_default_str();
+    app.add_option("--steps", o.steps, "time steps to time")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_flag("--json", o.json, "one JSON line instead of text");
+    int status = 0;
+    try {
+        app.parse(argc, argv);
+        status = o.dim == 2 ? run<2>(o) : run<3>(o);
+    } catch (const CLI::ParseError& e) {
+        status = app.exit(e);
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "throughput_mpi: %s\n", e.what());
+        status = 1;
+    }
+    MPI_Finalize();
+    return status;
+}
