@@ -202,6 +202,8 @@ public:
     double time() const { return time_; }
     std::size_t steps_done() const { return steps_; }
     std::size_t neighbor_rebuilds() const { return rebuilds_; }
+    /// The largest displacement of a particle from where the last rebuild found it, after the last pass.
+    double largest_move() const { return last_move_; }
 
     // ---- integrator stages -------------------------------------------------------------------
     /// Kick by h_before, drift by dt, kick by h_after (either kick may be zero), in one pass over
@@ -371,7 +373,7 @@ private:
     EnergyBooks books_, step_books_, previous_step_books_;
     std::vector<detail::WallBook> wall_books_;  // the walls as the books saw them at the last evaluation
     double initial_energy_ = 0.0;
-    double dt_ = 0.0, skin_ = 0.0, time_ = 0.0;
+    double dt_ = 0.0, skin_ = 0.0, time_ = 0.0, last_move_ = 0.0;
     double evaluated_dt_ = 0.0;  // the step of the last force evaluation, which advanced the springs
     std::size_t steps_ = 0, rebuilds_ = 0, sorts_ = 0;
     // The candidates' mean index distance after the last sort; 0: never sorted, -1: sorted since

@@ -37,6 +37,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     time_ += dt;
     ++steps_;
     const double move = std::sqrt(max_move_sq);
+    last_move_ = move;
     if (2.0 * move >= skin_ || move + wall_move >= skin_) rebuild_neighbors();
 }
 

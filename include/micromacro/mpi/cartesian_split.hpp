@@ -58,11 +58,23 @@ struct CartesianSplit {
         return true;
     }
 
+    /// Whether axis a is one periodic slab: a rank then measures pairs across its boundary by
+    /// the minimum image itself, as the serial engine does, and needs no ghosts along it.
+    bool wraps_locally(int a) const { return periodic[a] && dims[a] == 1; }
+
+    /// The box a rank's engine runs in: periodic where the axis is one periodic slab, open
+    /// elsewhere (ghosts across a periodic boundary between ranks sit at their images).
+    Domain<dim> local_domain() const {
+        std::array<bool, dim> wraps{};
+        for (int a = 0; a < dim; ++a) wraps[a] = wraps_locally(a);
+        return Domain<dim>(lo, hi, wraps);
+    }
+
     /// Refuses a halo wider than one slab along an axis with a neighbour across it: the
     /// exchange passes ghosts one slab on.
     void check_halo(double width) const {
         for (int a = 0; a < dim; ++a) {
-            if (dims[a] == 1 && !periodic[a]) continue;
+            if (dims[a] == 1) continue;
             const double slab_width = (hi[a] - lo[a]) / dims[a];
             if (!(width <= slab_width))
                 micromacro::detail::throw_input_error("the halo of ", width, " m (the largest contact distance plus the skin) is wider than the ",

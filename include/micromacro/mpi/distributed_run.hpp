@@ -1,7 +1,8 @@
 #pragma once
 // A scene run over MPI ranks with the serial engine: each rank runs a BasicSimulation on the
-// particles its subdomain owns followed by the ghosts of its halo (in an open box: a ghost
-// across a periodic boundary sits at its image), and after every particle pass refreshes the
+// particles its subdomain owns followed by the ghosts of its halo (a ghost across a periodic
+// boundary between ranks sits at its image; an axis of one periodic slab stays periodic in the
+// rank's engine, so one rank runs the serial engine on the serial box), and after every particle pass refreshes the
 // ghosts from their owners before the forces are computed. The forces, laws, springs and
 // integrator are the serial ones: the integrator policy drives this class through the same
 // stages (kick_drift_kick, compute_forces, kick_force_change) it drives the engine through. A
@@ -132,9 +133,9 @@ private:
     /// itself, a redistribution. Decided over every rank at once.
     void refresh_or_redistribute() {
         const auto& p = local_->particles();
-        double largest_move = 0.0;
-        for (std::size_t i = 0; i < owned_; ++i) largest_move = std::max(largest_move, (p.position()[i] - start_[i]).norm());
-        const double here[2] = {largest_move, local_->neighbor_rebuilds() != rebuilds_ ? 1.0 : 0.0};
+        // The engine's own largest move since the distribution (its last rebuild): its ghosts'
+        // are one step's integration off, but each ghost's owner counts it exactly.
+        const double here[2] = {local_->largest_move(), local_->neighbor_rebuilds() != rebuilds_ ? 1.0 : 0.0};
         double everywhere[2] = {0.0, 0.0};
         check(MPI_Allreduce(here, everywhere, 2, MPI_DOUBLE, MPI_MAX, comm_.comm()), "MPI_Allreduce (largest move)");
         if (2.0 * everywhere[0] >= skin_ || everywhere[1] > 0.0) {
@@ -201,7 +202,7 @@ private:
             own_states.push_back(&s);
         }
         halo_.emplace(comm_, owned, width_);
-        local_.emplace(law_);
+        local_.emplace(law_, comm_.split().local_domain());
         global_.clear();
         for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
             for (const ParticleRecord& r : *set) {
@@ -212,7 +213,6 @@ private:
                 global_.push_back(r.id);
             }
         owned_ = owned.size();
-        start_.assign(local_->particles().position().begin(), local_->particles().position().begin() + owned_);
         local_->set_time_step(dt_);
         local_->set_skin(skin_);
         local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
@@ -239,7 +239,6 @@ private:
     std::optional<Sim> local_;
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts
-    std::vector<Vec<dim>> start_;  // the owned particles' positions at the last distribution
     std::size_t owned_ = 0, rebuilds_ = 0, redistributions_ = 0;
     double skin_, dt_, width_ = 0.0;
 };

@@ -1,7 +1,8 @@
 #pragma once
 // Ghost particles: copies of the particles within a halo width of a rank's subdomain, from the
 // ranks that own them, placed where this rank sees them (shifted by a box length across a
-// periodic boundary). Building a Halo (LAMMPS's Comm::borders) runs axis by axis, each axis both
+// periodic boundary). An axis of one slab has none: open, it has no neighbour; periodic, the
+// rank's engine measures across it by the minimum image (CartesianSplit::local_domain). Building a Halo (LAMMPS's Comm::borders) runs axis by axis, each axis both
 // ways, and passes on the ghosts already received, so that particles diagonally across a corner
 // arrive too: afterwards a rank holds every particle image whose position lies within `width` of
 // its subdomain (the subdomain grown by `width` on every side with a neighbour), each once.
@@ -52,14 +53,15 @@ inline std::vector<ParticleRecord> shift(MPI_Comm comm, const std::vector<Partic
 template <int dim>
 class Halo {
 public:
-    /// The ghosts of this rank: every image of another rank's particle (or, with one slab on a
-    /// periodic axis, of its own) within `width` of this rank's subdomain. `owned` are the
-    /// particles this rank owns, at positions inside its subdomain.
+    /// The ghosts of this rank: every image of another rank's particle within `width` of this
+    /// rank's subdomain along the axes of more than one slab. `owned` are the particles this rank
+    /// owns, at positions inside its subdomain.
     Halo(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned, double width) {
         const CartesianSplit<dim>& split = comm.split();
         split.check_halo(width);
         owned_count_ = owned.size();
         for (int a = 0; a < dim; ++a) {
+            if (split.dims[a] == 1) continue;  // no neighbour, or the rank's own minimum image (CartesianSplit::wraps_locally)
             const double lo = split.sub_lo(a), hi = split.sub_hi(a), length = split.hi[a] - split.lo[a];
             // What goes down (to the rank below) and up, chosen from the owned particles and the
             // ghosts received along the earlier axes, before this axis's ghosts are added.
