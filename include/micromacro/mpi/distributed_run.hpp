@@ -2,8 +2,8 @@
 // A scene run over MPI ranks with the serial engine: each rank runs a BasicSimulation on the
 // particles its subdomain owns followed by the ghosts of its halo (a ghost across a periodic
 // boundary between ranks sits at its image; an axis of one periodic slab stays periodic in the
-// rank's engine, so one rank runs the serial engine on the serial box), and after every particle pass refreshes the
-// ghosts from their owners before the forces are computed. The forces, laws, springs and
+// rank's engine, so one rank runs the serial engine on the serial box), and after every
+// particle pass refreshes the ghosts from their owners before the forces are computed. The forces, laws, springs and
 // integrator are the serial ones: the integrator policy drives this class through the same
 // stages (kick_drift_kick, compute_forces, kick_force_change) it drives the engine through. A
 // ghost's own force is incomplete and never used: its state is overwritten at every refresh.
@@ -48,16 +48,26 @@ public:
                   "DistributedRun: needs a law with rotation and springs (the records carry angular velocities)");
 
     /// Splits `whole` (the same scene on every rank: particles, law, dt, skin, a box) over the
-    /// ranks of `parent` and computes the first forces. The halo is the largest contact distance
-    /// plus the skin.
+    /// ranks of `parent` and computes the first forces. The skin is the scene's, or the engine's
+    /// default (a fifth of the mean radius); the halo is the largest contact distance plus it.
     DistributedRun(MPI_Comm parent, const Sim& whole)
         : comm_(parent, whole.domain()), box_(whole.domain()), law_(whole.law()), skin_(whole.skin()), dt_(whole.time_step()) {
         const auto& p = whole.particles();
-        double largest_radius = 0.0;
-        for (std::size_t i = 0; i < p.size(); ++i) largest_radius = std::max(largest_radius, double(p.radius()[i]));
+        double largest_radius = 0.0, radii = 0.0;
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            largest_radius = std::max(largest_radius, double(p.radius()[i]));
+            radii += double(p.radius()[i]);
+        }
+        if (!(skin_ > 0.0) && p.size() > 0) skin_ = 0.2 * radii / double(p.size());
         width_ = 2.0 * largest_radius + skin_;
         std::vector<State> all;
-        for (std::size_t i = 0; i < p.size(); ++i) all.push_back({record(p, i, p.id(i)), {}, {}});
+        for (std::size_t i = 0; i < p.size(); ++i) {
+            State s{record(p, i, p.id(i)), {}, {}};
+            Vec<dim> x = p.position()[i];
+            box_.wrap(x);  // as the serial engine does before its first step
+            for (int a = 0; a < dim; ++a) s.r.x[a] = x[a];
+            all.push_back(s);
+        }
         distribute(all, {}, true);
     }
 
