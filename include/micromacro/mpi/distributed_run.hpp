@@ -12,10 +12,9 @@
 // rebuilt its lists on its own), every rank redistributes, in the step, between the particle
 // pass and the forces: the particles go to the ranks that own their positions now, each with its
 // last force and torque (the integrator's closing kick needs them) and each pair's spring with
-// it, the halos are built again and each rank's engine is rebuilt on its new particles. The
-// exchange gathers every rank's particles on every rank (MPI_Allgatherv): simple and exact, but
-// its cost grows with the whole scene, not with the halo; passing them to the neighbouring ranks
-// only is the next step, as are walls.
+// it, the halos are built again and each rank's engine is rebuilt on its new particles. Particles
+// go to the neighbouring ranks only, axis by axis (as in LAMMPS's Comm::exchange). Walls are not
+// supported yet.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -109,6 +108,11 @@ private:
         Index a, b;
         History h;
     };
+    /// A spring on its way with one of its particles, `carrier`.
+    struct CarriedSpring {
+        Index carrier;
+        PairHistory pair;
+    };
 
     template <class Particles>
     static ParticleRecord record(const Particles& p, std::size_t i, Index id) {
@@ -157,44 +161,83 @@ private:
         for (std::size_t k = 0; k < ghosts.size(); ++k) write_motion(owned_ + k, ghosts[k]);
     }
 
-    /// Every rank's particles (position wrapped into the box, last force and torque) and the
-    /// springs of their pairs, gathered on every rank and distributed afresh.
+    /// The particles that left this rank's subdomain go to the ranks that own their positions
+    /// now (position wrapped into the box, last force and torque), each with the springs of its
+    /// pairs, axis by axis to the neighbouring ranks (a particle moves less than a slab between
+    /// two distributions, at most one slab along each axis); the others stay, with their springs.
+    /// Then halos and the engine are built afresh.
     void redistribute() {
         const auto& p = local_->particles();
-        std::vector<State> mine;
+        const CartesianSplit<dim>& split = comm_.split();
+        std::vector<State> states;
         for (std::size_t i = 0; i < owned_; ++i) {
             State s{record(p, i, global_[i]), {}, angular(p.template get<field::Torque>()[i])};
             Vec<dim> x = p.position()[i];
             box_.wrap(x);
             for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = p.force()[i][a];
-            mine.push_back(s);
+            states.push_back(s);
         }
-        std::vector<PairHistory> springs;
+        // Every spring with at least one of this rank's particles, carried by each of them that
+        // is this rank's (so that it goes wherever either goes).
+        std::vector<CarriedSpring> carried;
         local_->visit_pair_histories([&](Index i, Index j, const History& h) {
             if (i >= owned_ && j >= owned_) return;  // between two ghosts: another rank's
             const Index a = global_id(i), b = global_id(j);
-            springs.push_back(a < b ? PairHistory{a, b, h} : PairHistory{b, a, seen_from_partner(h)});
+            const PairHistory pair = a < b ? PairHistory{a, b, h} : PairHistory{b, a, seen_from_partner(h)};
+            if (i < owned_) carried.push_back({a, pair});
+            if (j < owned_) carried.push_back({b, pair});
         });
-        const auto all = gather(mine), all_springs = gather(springs);
+        for (int a = 0; a < dim; ++a) {
+            if (split.dims[a] == 1) continue;
+            // Down (0) or up (1) one slab, across the box's end on a periodic axis; or staying.
+            std::array<std::vector<State>, 2> leaving;
+            std::array<std::vector<CarriedSpring>, 2> leaving_springs;
+            std::map<Index, int> way;
+            std::vector<State> staying;
+            for (const State& st : states) {
+                const int c = split.slab(a, st.r.x[a]);
+                if (c == split.coords[a]) {
+                    staying.push_back(st);
+                    continue;
+                }
+                const int up = c == (split.coords[a] + 1) % split.dims[a] ? 1 : 0;
+                leaving[up].push_back(st);
+                way[st.r.id] = up;
+            }
+            states.swap(staying);
+            std::vector<CarriedSpring> kept;
+            for (const CarriedSpring& cs : carried) {
+                const auto found = way.find(cs.carrier);
+                if (found == way.end()) kept.push_back(cs);
+                else leaving_springs[found->second].push_back(cs);
+            }
+            carried.swap(kept);
+            for (int up = 0; up < 2; ++up) {
+                const int to = comm_.neighbour(a, up ? +1 : -1), from = comm_.neighbour(a, up ? -1 : +1);
+                const auto arrived = exchange(leaving[up], to, from);
+                const auto arrived_springs = exchange(leaving_springs[up], to, from);
+                states.insert(states.end(), arrived.begin(), arrived.end());
+                carried.insert(carried.end(), arrived_springs.begin(), arrived_springs.end());
+            }
+        }
         std::map<std::pair<Index, Index>, History> by_pair;
-        for (const PairHistory& s : all_springs) by_pair.emplace(std::pair{s.a, s.b}, s.h);  // a pair on two ranks: the first
-        distribute(all, by_pair, false);
+        for (const CarriedSpring& cs : carried) by_pair.emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);  // held twice: the first
+        distribute(states, by_pair, false);
         ++redistributions_;
     }
 
-    /// Everyone's `items` on every rank, in rank order.
+    /// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL).
     template <class T>
-    std::vector<T> gather(const std::vector<T>& items) const {
-        int ranks = 0;
-        check(MPI_Comm_size(comm_.comm(), &ranks), "MPI_Comm_size");
-        const int bytes = static_cast<int>(items.size() * sizeof(T));
-        std::vector<int> counts(ranks), offsets(ranks, 0);
-        check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm_.comm()), "MPI_Allgather (counts)");
-        for (int r = 1; r < ranks; ++r) offsets[r] = offsets[r - 1] + counts[r - 1];
-        std::vector<T> all((offsets.back() + counts.back()) / sizeof(T));
-        check(MPI_Allgatherv(items.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm_.comm()),
-              "MPI_Allgatherv");
-        return all;
+    std::vector<T> exchange(const std::vector<T>& out, int to, int from) const {
+        unsigned long long sending = out.size(), receiving = 0;
+        check(MPI_Sendrecv(&sending, 1, MPI_UNSIGNED_LONG_LONG, to, 2, &receiving, 1, MPI_UNSIGNED_LONG_LONG, from, 2, comm_.comm(),
+                           MPI_STATUS_IGNORE),
+              "MPI_Sendrecv (migration counts)");
+        std::vector<T> in(receiving);
+        check(MPI_Sendrecv(out.data(), static_cast<int>(out.size() * sizeof(T)), MPI_BYTE, to, 3, in.data(),
+                           static_cast<int>(in.size() * sizeof(T)), MPI_BYTE, from, 3, comm_.comm(), MPI_STATUS_IGNORE),
+              "MPI_Sendrecv (migration)");
+        return in;
     }
 
     /// This rank's engine on the particles of `all` it owns and the ghosts of its new halo, each
