@@ -4,6 +4,7 @@
 // load imbalance (the most particles a rank owns over the mean) and the redistributions.
 //
 //   mpirun -np 2 throughput_mpi --dim 2 --particles 200000 --steps 200
+//   mpirun -np 2 throughput_mpi --particles 200000 --gamma-n 0 --gamma-t 0   # the law of scripts/vs_lammps.sh
 //
 // Every rank builds the whole lattice and keeps its own part: the set-up's memory grows with the
 // whole scene (fine for the sizes timed here), the steps' with a rank's part. Timed: the steps,
@@ -30,6 +31,7 @@ namespace {
 struct Options {
     int dim = 2;
     std::size_t particles = 20000, steps = 200;
+    double k = 1e5, kt = 2e4, mu = 0.5, gamma_n = 0.1, gamma_t = 0.02;  // throughput's defaults, the paper's
     bool json = false;
 };
 
@@ -39,11 +41,11 @@ int run(const Options& o) {
     std::vector<double> r;
     double L = 0.0;
     benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
-    const double density = 2000.0, k = 1e5, gamma_n = 0.1;
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(k, gamma_n), mm::CundallStrack(2e4, 0.02, 0.5)};
+    const double density = 2000.0;
+    const mm::FrictionalLinear law{mm::LinearSpringDashpot(o.k, o.gamma_n), mm::CundallStrack(o.kt, o.gamma_t, o.mu)};
     mm::BasicSimulation<dim, double, mm::FrictionalLinear> whole(law, mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L)));
     for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(density, r[i]));
-    const double tc = mm::contact_duration(k, gamma_n, 0.5 * mm::sphere_mass(density, r[0]));
+    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(density, r[0]));
     whole.set_time_step(tc / 50);
     whole.set_skin(0.2 * r[0]);  // the engine's default: a fifth of the mean radius
     mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
@@ -68,8 +70,9 @@ int run(const Options& o) {
     if (o.json)
         std::printf("{\"dim\": %d, \"particles\": %zu, \"steps\": %zu, \"ranks\": %d, \"split\": \"%s\", \"seconds\": %.6g, "
                     "\"particle_steps_per_second\": %.6g, \"per_rank\": %.6g, \"halo_bytes_per_particle_step\": %.4g, "
-                    "\"halo_messages_per_step\": %llu, \"imbalance\": %.4f, \"redistributions\": %zu}\n",
-                    dim, x.size(), o.steps, ranks, split.c_str(), seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions());
+                    "\"halo_messages_per_step\": %llu, \"imbalance\": %.4f, \"redistributions\": %zu, \"dt\": %.6g, \"skin\": %.6g}\n",
+                    dim, x.size(), o.steps, ranks, split.c_str(), seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions(),
+                    whole.time_step(), whole.skin());
     else
         std::printf("%dD frictional lattice: %zu particles on %d ranks (%s), %zu steps in %.3f s: %.3g particle-steps/s "
                     "(%.3g per rank); halo %.1f bytes per particle-step, at most %llu messages per step and rank; "
@@ -86,6 +89,11 @@ int main(int argc, char** argv) {
     app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     app.add_option("--particles", o.particles, "particles of the lattice")->capture_default_str();
     app.add_option("--steps", o.steps, "time steps to time")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_option("--k", o.k, "normal stiffness (N/m)")->capture_default_str();
+    app.add_option("--gamma-n", o.gamma_n, "normal damping gamma_0 (kg/s)")->capture_default_str();
+    app.add_option("--kt", o.kt, "tangential stiffness (N/m)")->capture_default_str();
+    app.add_option("--gamma-t", o.gamma_t, "tangential damping (kg/s)")->capture_default_str();
+    app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
     app.add_flag("--json", o.json, "one JSON line instead of text");
     int status = 0;
     try {
