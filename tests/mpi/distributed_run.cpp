@@ -15,18 +15,14 @@
 
 #include <micromacro/mpi/distributed_run.hpp>
 
+#include "support/mpi_runtime.hpp"
 #include "support/scenes.hpp"
 
 namespace mm = micromacro;
 using mmtest::Dims;
 
-namespace {
-struct MpiSession {
-    MpiSession() { MPI_Init(nullptr, nullptr); }
-    ~MpiSession() { MPI_Finalize(); }
-};
-}  // namespace
-BOOST_TEST_GLOBAL_FIXTURE(MpiSession);
+using mmtest::MpiRuntime;
+BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
 // A jittered lattice of particles with radii 0.995-1.005 mm, spaced 1.99 mm in a periodic box,

@@ -18,18 +18,14 @@
 
 #include <micromacro/mpi/halo.hpp>
 
+#include "support/mpi_runtime.hpp"
 #include "support/scenes.hpp"
 
 namespace mm = micromacro;
 using mmtest::Dims;
 
-namespace {
-struct MpiSession {
-    MpiSession() { MPI_Init(nullptr, nullptr); }
-    ~MpiSession() { MPI_Finalize(); }
-};
-}  // namespace
-BOOST_TEST_GLOBAL_FIXTURE(MpiSession);
+using mmtest::MpiRuntime;
+BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
 template <int dim>
