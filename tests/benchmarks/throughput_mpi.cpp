@@ -47,7 +47,6 @@ int run(const Options& o) {
     for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(density, r[i]));
     const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(density, r[0]));
     whole.set_time_step(tc / 50);
-    whole.set_skin(0.2 * r[0]);  // the engine's default: a fifth of the mean radius
     mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
     MPI_Barrier(MPI_COMM_WORLD);
     const auto start = std::chrono::steady_clock::now();
@@ -72,7 +71,7 @@ int run(const Options& o) {
                     "\"particle_steps_per_second\": %.6g, \"per_rank\": %.6g, \"halo_bytes_per_particle_step\": %.4g, "
                     "\"halo_messages_per_step\": %llu, \"imbalance\": %.4f, \"redistributions\": %zu, \"dt\": %.6g, \"skin\": %.6g}\n",
                     dim, x.size(), o.steps, ranks, split.c_str(), seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions(),
-                    whole.time_step(), whole.skin());
+                    whole.time_step(), run.skin());
     else
         std::printf("%dD frictional lattice: %zu particles on %d ranks (%s), %zu steps in %.3f s: %.3g particle-steps/s "
                     "(%.3g per rank); halo %.1f bytes per particle-step, at most %llu messages per step and rank; "

@@ -28,16 +28,6 @@ using mmtest::MpiRuntime;
 BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
-template <int dim>
-std::array<double, 3> xyz(const mm::Vec<dim>& v) {
-    return {v[0], v[1], dim == 3 ? v[2] : 0.0};
-}
-template <int dim>
-std::array<double, 3> angular(const mm::Angular<dim>& w) {
-    if constexpr (dim == 2) return {0.0, 0.0, w};
-    else return {w[0], w[1], w[2]};
-}
-
 // The same packing on every rank: n particles, radii 0.5-1.5 mm, placed at random with overlaps at
 // volume fraction 0.6 in a periodic cube, moving and turning at random.
 template <int dim>
@@ -62,10 +52,7 @@ auto packing(std::size_t n) {
 
 template <class Sim>
 mm::mpi::ParticleRecord record(const Sim& sim, std::size_t i) {
-    const auto& p = sim.particles();
-    return {p.id(i), double(p.radius()[i]), double(p.mass()[i]), double(p.template get<mm::field::Inertia>()[i]),
-            xyz<Sim::dimension>(p.position()[i]), xyz<Sim::dimension>(p.velocity()[i]),
-            angular<Sim::dimension>(p.template get<mm::field::AngularVelocity>()[i])};
+    return mm::mpi::record_of(sim.particles(), i, sim.particles().id(i));
 }
 }  // namespace
 
@@ -94,7 +81,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(owners_ghosts_and_forces_match_the_serial_run, D, 
     const auto by_id = serial.particles().index_by_id();
     auto shift_of = [&](const mm::mpi::ParticleRecord& g) {
         std::array<int, 3> s{};
-        const auto x = xyz<dim>(serial.particles().position()[by_id[g.id]]);
+        const auto x = mm::mpi::record_vector<dim>(serial.particles().position()[by_id[g.id]]);
         for (int a = 0; a < dim; ++a) s[a] = static_cast<int>(std::lround((g.x[a] - x[a]) / (split.hi[a] - split.lo[a])));
         return s;
     };
@@ -102,12 +89,12 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(owners_ghosts_and_forces_match_the_serial_run, D, 
     for (const auto& g : ghosts) {
         const auto s = shift_of(g);
         ++got[{g.id, s[0], s[1], s[2]}];
-        const auto x = xyz<dim>(serial.particles().position()[by_id[g.id]]);
+        const auto x = mm::mpi::record_vector<dim>(serial.particles().position()[by_id[g.id]]);
         for (int a = 0; a < dim; ++a) exact_images &= g.x[a] == (s[a] == 0 ? x[a] : s[a] > 0 ? x[a] + (split.hi[a] - split.lo[a]) : x[a] - (split.hi[a] - split.lo[a]));
     }
     BOOST_TEST(exact_images);
     for (std::size_t i = 0; i < n; ++i) {
-        const auto x = xyz<dim>(serial.particles().position()[i]);
+        const auto x = mm::mpi::record_vector<dim>(serial.particles().position()[i]);
         for (int sx = -1; sx <= 1; ++sx)
             for (int sy = -1; sy <= 1; ++sy)
                 for (int sz = (dim == 3 ? -1 : 0); sz <= (dim == 3 ? 1 : 0); ++sz) {

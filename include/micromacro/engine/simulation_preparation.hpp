@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "micromacro/engine/simulation.hpp"
+#include "micromacro/neighbors/skin.hpp"
 
 namespace micromacro {
 
@@ -64,12 +65,8 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if (n > std::numeric_limits<Index>::max() - 1)
         detail::throw_input_error("too many particles: ", n);
     const auto& r = particles_.radius();
-    if (!(skin_ > 0.0)) {
-        double mean = 0.0;
-        for (double a : r) mean += a;  // in double whatever the storage
-        skin_ = n ? 0.2 * mean / n : 1.0;
-    }
-    if (n) domain_.check_interaction_range(2.0 * double(*std::max_element(r.begin(), r.end())) + skin_);
+    if (!(skin_ > 0.0)) skin_ = default_skin(r);
+    if (n) domain_.check_interaction_range(interaction_range(r, skin_));
     check_position_resolution();
     const double limit = stable_time_step();
     if (dt_ > limit && !allow_unstable_)

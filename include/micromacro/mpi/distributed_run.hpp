@@ -33,6 +33,7 @@
 #include "micromacro/engine/simulation.hpp"
 #include "micromacro/mpi/communicator.hpp"
 #include "micromacro/mpi/halo.hpp"
+#include "micromacro/neighbors/skin.hpp"
 
 namespace micromacro::mpi {
 
@@ -52,16 +53,11 @@ public:
     DistributedRun(MPI_Comm parent, const Sim& whole)
         : comm_(parent, whole.domain()), box_(whole.domain()), law_(whole.law()), skin_(whole.skin()), dt_(whole.time_step()) {
         const auto& p = whole.particles();
-        double largest_radius = 0.0, radii = 0.0;
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            largest_radius = std::max(largest_radius, double(p.radius()[i]));
-            radii += double(p.radius()[i]);
-        }
-        if (!(skin_ > 0.0) && p.size() > 0) skin_ = 0.2 * radii / double(p.size());
-        width_ = 2.0 * largest_radius + skin_;
+        if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
+        width_ = interaction_range(p.radius(), skin_);
         std::vector<State> all;
         for (std::size_t i = 0; i < p.size(); ++i) {
-            State s{record(p, i, p.id(i)), {}, {}};
+            State s{record_of(p, i, p.id(i)), {}, {}};
             Vec<dim> x = p.position()[i];
             box_.wrap(x);  // as the serial engine does before its first step
             for (int a = 0; a < dim; ++a) s.r.x[a] = x[a];
@@ -74,6 +70,8 @@ public:
     /// The engine of this rank: its particles [0, owned()) are this rank's, the rest ghosts.
     const Sim& local() const { return *local_; }
     std::size_t owned() const { return owned_; }
+    /// The neighbour skin every rank's engine runs with (the scene's, or default_skin).
+    double skin() const { return skin_; }
     /// The global id of local particle i (the whole scene's particle id).
     Index global_id(std::size_t i) const { return global_[local_->particles().id(i)]; }
     /// How often the particles were handed to new ranks.
@@ -114,32 +112,13 @@ private:
         PairHistory pair;
     };
 
-    template <class Particles>
-    static ParticleRecord record(const Particles& p, std::size_t i, Index id) {
-        ParticleRecord r{id, double(p.radius()[i]), double(p.mass()[i]), double(p.template get<field::Inertia>()[i]), {}, {}, {}};
-        for (int a = 0; a < dim; ++a) {
-            r.x[a] = p.position()[i][a];
-            r.v[a] = p.velocity()[i][a];
-        }
-        r.w = angular(p.template get<field::AngularVelocity>()[i]);
-        return r;
-    }
-    static std::array<double, 3> angular(const Angular<dim>& w) {
-        if constexpr (dim == 2) return {0.0, 0.0, w};
-        else return {w[0], w[1], w[2]};
-    }
-    static Angular<dim> angular(const std::array<double, 3>& w) {
-        if constexpr (dim == 2) return w[2];
-        else return Vec<3>(w[0], w[1], w[2]);
-    }
-
     void write_motion(std::size_t i, const ParticleRecord& r) {
         auto& p = local_->particles();
         for (int a = 0; a < dim; ++a) {
             p.position()[i][a] = r.x[a];
             p.velocity()[i][a] = r.v[a];
         }
-        p.template get<field::AngularVelocity>()[i] = angular(r.w);
+        p.template get<field::AngularVelocity>()[i] = angular_of_record<dim>(r.w);
     }
 
     /// After a particle pass: the ghosts from their owners' present state, or, once a particle
@@ -156,7 +135,7 @@ private:
             redistribute();
             return;
         }
-        halo_->refresh(comm_, [&](std::size_t i) { return record(p, i, global_[i]); });
+        halo_->refresh(comm_, [&](std::size_t i) { return record_of(p, i, global_[i]); });
         const auto& ghosts = halo_->ghosts();
         for (std::size_t k = 0; k < ghosts.size(); ++k) write_motion(owned_ + k, ghosts[k]);
     }
@@ -171,7 +150,7 @@ private:
         const CartesianSplit<dim>& split = comm_.split();
         std::vector<State> states;
         for (std::size_t i = 0; i < owned_; ++i) {
-            State s{record(p, i, global_[i]), {}, angular(p.template get<field::Torque>()[i])};
+            State s{record_of(p, i, global_[i]), {}, record_angular<dim>(p.template get<field::Torque>()[i])};
             Vec<dim> x = p.position()[i];
             box_.wrap(x);
             for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = p.force()[i][a];
@@ -276,7 +255,7 @@ private:
         auto& p = local_->particles();
         for (std::size_t i = 0; i < owned_; ++i) {
             for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
-            p.template get<field::Torque>()[i] = angular(own_states[i]->torque);
+            p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
         }
         local_->visit_pair_histories([&](Index i, Index j, History& h) {
             const Index a = global_id(i), b = global_id(j);

@@ -16,8 +16,10 @@
 
 #include <mpi.h>
 
+#include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/index.hpp"
 #include "micromacro/mpi/communicator.hpp"
+#include "micromacro/particles/particles.hpp"
 
 namespace micromacro::mpi {
 
@@ -30,6 +32,35 @@ struct ParticleRecord {
     std::array<double, 3> x, v, w;
 };
 static_assert(std::is_trivially_copyable_v<ParticleRecord>);
+
+/// A position or velocity as a record's 3 numbers (2D: z = 0).
+template <int dim>
+std::array<double, 3> record_vector(const Vec<dim>& v) {
+    return {v[0], v[1], dim == 3 ? v[dim - 1] : 0.0};
+}
+/// An angular velocity or torque as a record's 3 numbers (2D: the z component), and back.
+template <int dim>
+std::array<double, 3> record_angular(const Angular<dim>& w) {
+    if constexpr (dim == 2) return {0.0, 0.0, w};
+    else return {w[0], w[1], w[2]};
+}
+template <int dim>
+Angular<dim> angular_of_record(const std::array<double, 3>& w) {
+    if constexpr (dim == 2) return w[2];
+    else return Vec<3>(w[0], w[1], w[2]);
+}
+
+/// Particle i of a particle set with rotation as a record, with the global id `id`.
+template <int dim, class Real>
+ParticleRecord record_of(const Particles<dim, true, Real>& p, std::size_t i, Index id) {
+    return {id,
+            double(p.radius()[i]),
+            double(p.mass()[i]),
+            double(p.template get<field::Inertia>()[i]),
+            record_vector<dim>(convert<double>(p.position()[i])),
+            record_vector<dim>(convert<double>(p.velocity()[i])),
+            record_angular<dim>(convert<double>(p.template get<field::AngularVelocity>()[i]))};
+}
 
 namespace halo_detail {
 /// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL);
