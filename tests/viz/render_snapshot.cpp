@@ -32,28 +32,41 @@
 namespace fs = std::filesystem;
 namespace mm = micromacro;
 
+namespace {
+// A frame of particles at rest at `position`, of one radius, with the given potential energies;
+// the fields a picture does not read are zero.
+template <int dim>
+mm::io::ParticleFrame<dim> at_rest(std::vector<mm::Vec<dim>> position, double radius, std::vector<double> energy) {
+    mm::io::ParticleFrame<dim> f;
+    const std::size_t n = position.size();
+    f.position = std::move(position);
+    f.potential_energy = std::move(energy);
+    f.radius.assign(n, radius);
+    f.velocity.assign(n, mm::Vec<dim>::Zero());
+    f.force.assign(n, mm::Vec<dim>::Zero());
+    f.kinetic_energy.assign(n, 0.0);
+    f.coordination.assign(n, 0);
+    f.stress.assign(n, mm::Tensor2<dim>::Zero());
+    return f;
+}
+}  // namespace
+
 BOOST_AUTO_TEST_CASE(colours_at_the_centres) {
     const fs::path dir = fs::temp_directory_path() / "micromacro_render_test";
     fs::remove_all(dir);
     fs::create_directories(dir);
     // Five disks in a row, energies 0, 1, 2, 3, 4 (normalised 0, 1/4, ..., 1), one far corner disk
     // to set the bounds.
-    mm::io::ParticleFrame<2> f;
     const double a = 1e-3;
+    std::vector<mm::Vec<2>> row;
+    std::vector<double> energies;
     for (int i = 0; i < 5; ++i) {
-        f.position.push_back({3e-3 * i, 0.0});
-        f.potential_energy.push_back(double(i));
+        row.push_back({3e-3 * i, 0.0});
+        energies.push_back(double(i));
     }
-    f.position.push_back({12e-3, 6e-3});
-    f.potential_energy.push_back(2.0);
-    const std::size_t n = f.position.size();
-    f.radius.assign(n, a);
-    f.velocity.assign(n, mm::Vec<2>::Zero());
-    f.force.assign(n, mm::Vec<2>::Zero());
-    f.kinetic_energy.assign(n, 0.0);
-    f.coordination.assign(n, 0);
-    f.stress.assign(n, mm::Tensor2<2>::Zero());
-    mm::io::write_particles(f, dir / "p.vtp");
+    row.push_back({12e-3, 6e-3});
+    energies.push_back(2.0);
+    mm::io::write_particles(at_rest<2>(row, a, energies), dir / "p.vtp");
 
     const int width = 640, height = 480;
     const auto png = dir / "p.png";
@@ -130,21 +143,12 @@ namespace {
 // Frames of disks in a row at x = 0, 3, 6, ... mm with the given energies; the last disk is set
 // apart to fix the bounds alike in every frame.
 fs::path frame(const fs::path& dir, const std::string& name, const std::vector<double>& energies) {
-    mm::io::ParticleFrame<2> f;
-    for (std::size_t i = 0; i < energies.size(); ++i) {
-        f.position.push_back({3e-3 * double(i), 0.0});
-        f.potential_energy.push_back(energies[i]);
-    }
-    f.position.push_back({12e-3, 6e-3});  // the bounds' corner, energy 0
-    f.potential_energy.push_back(0.0);
-    const std::size_t n = f.position.size();
-    f.radius.assign(n, 1e-3);
-    f.velocity.assign(n, mm::Vec<2>::Zero());
-    f.force.assign(n, mm::Vec<2>::Zero());
-    f.kinetic_energy.assign(n, 0.0);
-    f.coordination.assign(n, 0);
-    f.stress.assign(n, mm::Tensor2<2>::Zero());
-    mm::io::write_particles(f, dir / name);
+    std::vector<mm::Vec<2>> row;
+    for (std::size_t i = 0; i < energies.size(); ++i) row.push_back({3e-3 * double(i), 0.0});
+    row.push_back({12e-3, 6e-3});  // the bounds' corner, energy 0
+    std::vector<double> with_corner = energies;
+    with_corner.push_back(0.0);
+    mm::io::write_particles(at_rest<2>(row, 1e-3, with_corner), dir / name);
     return dir / name;
 }
 
@@ -290,19 +294,6 @@ Image read_png(const fs::path& png, int height) {
     return {reader->GetOutput(), height};
 }
 
-mm::io::ParticleFrame<3> spheres(const std::vector<mm::Vec<3>>& centres, double radius) {
-    mm::io::ParticleFrame<3> f;
-    f.position = centres;
-    const std::size_t n = centres.size();
-    f.radius.assign(n, radius);
-    f.potential_energy.assign(n, 1.0);
-    f.velocity.assign(n, mm::Vec<3>::Zero());
-    f.force.assign(n, mm::Vec<3>::Zero());
-    f.kinetic_energy.assign(n, 0.0);
-    f.coordination.assign(n, 0);
-    f.stress.assign(n, mm::Tensor2<3>::Zero());
-    return f;
-}
 }  // namespace
 
 // A slab of a 3D box: seen across y, only the spheres whose centres lie within the slab are drawn
@@ -316,7 +307,7 @@ BOOST_AUTO_TEST_CASE(a_slice_shows_only_the_particles_in_its_slab) {
     const double a = 1e-3;
     // Corners of the box's x-z extent (in the slab), one sphere in front of the slab (y = 4 mm)
     // and one behind it (y = -4 mm) where nothing in the slab covers them.
-    auto f = spheres({{0, 0, 0}, {8e-3, 0, 8e-3}, {0, 0, 8e-3}, {8e-3, 4e-3, 0}, {4e-3, -4e-3, 4e-3}}, a);
+    auto f = at_rest<3>({{0, 0, 0}, {8e-3, 0, 8e-3}, {0, 0, 8e-3}, {8e-3, 4e-3, 0}, {4e-3, -4e-3, 4e-3}}, a, std::vector<double>(5, 1.0));
     f.values = {{"eps_zz", 0.125}};
     mm::io::write_particles(f, dir / "box.vtp");
     const int width = 640, height = 480;
@@ -372,16 +363,7 @@ BOOST_AUTO_TEST_CASE(the_force_network_as_tubes_scaled_by_force) {
     // horizontal lines at z = -10, 15 and 30 mm with normal forces 2, 1 and 0 N; the second disk
     // sets the scale's top and the mean radius.
     const double a = 30e-3;
-    mm::io::ParticleFrame<2> f;
-    f.position = {{10e-3, 10e-3}, {100e-3, 10e-3}};
-    f.potential_energy = {0.0, 1.0};
-    f.radius = {a, a};
-    f.velocity.assign(2, mm::Vec<2>::Zero());
-    f.force.assign(2, mm::Vec<2>::Zero());
-    f.kinetic_energy.assign(2, 0.0);
-    f.coordination.assign(2, 0);
-    f.stress.assign(2, mm::Tensor2<2>::Zero());
-    mm::io::write_particles(f, dir / "p.vtp");
+    mm::io::write_particles(at_rest<2>({{10e-3, 10e-3}, {100e-3, 10e-3}}, a, {0.0, 1.0}), dir / "p.vtp");
     {
         vtkNew<vtkPoints> points;
         vtkNew<vtkCellArray> lines;
