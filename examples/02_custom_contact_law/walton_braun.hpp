@@ -82,7 +82,7 @@ public:
     template <int dim>
     void step_back(const mm::Vec<dim>&, const mm::Vec<dim>&, double, double, History<dim>&) const {}
     template <int dim>
-    void displace(const mm::Vec<dim>&, History<dim>&) const {}
+    void displace(const mm::Vec<dim>&, const mm::Vec<dim>&, History<dim>&) const {}
 
 private:
     template <int dim>

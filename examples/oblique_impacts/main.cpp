@@ -41,7 +41,7 @@ public:
                                    double normal_force, double /*overlap*/, double dt, History<dim>& h) const {
         using V = mm::Vec<dim>;
         mm::TangentialForce<dim> out;
-        const V stored = h.spring - n * n.dot(h.spring);
+        const V stored = present_spring<dim>(n, h);
         const V vt = relative_velocity - n * normal_velocity;
         const V trial = -stiffness() * V(stored + (0.5 * dt) * vt) - damping() * vt;
         const double fn = std::max(normal_force, 0.0), trial_sq = trial.squaredNorm();
@@ -50,17 +50,25 @@ public:
                              (h.sliding && trial_sq >= dynamic_limit * dynamic_limit && vt.dot(stored) >= 0.0);
         if (!sliding) {
             out.force = trial;
-            h.spring = stored + dt * vt;
+            keep(n, V(stored + dt * vt), h);
         } else {
             const double magnitude = std::sqrt(trial_sq);
             const V t = magnitude > 0.0 ? V(trial / magnitude) : V(V::Zero());
             out.force = dynamic_limit * t;
-            h.spring = -(dynamic_limit / stiffness()) * t;
+            keep(n, V(-(dynamic_limit / stiffness()) * t), h);
         }
         h.sliding = sliding;
         h.touching = true;
         out.sliding = sliding;
         return out;
+    }
+    /// A spring in the tangent plane of n into the history (2D: its component along the tangent).
+    template <int dim>
+    static void keep(const mm::Vec<dim>& n, const mm::Vec<dim>& spring, History<dim>& h) {
+        if constexpr (dim == 2)
+            h.spring = mm::tangent_of(n).dot(spring);
+        else
+            h.spring = spring;
     }
     /// Nothing added when a contact is found open: the plain last sample stands.
     template <int dim>

@@ -52,8 +52,8 @@ struct StiffnessBound {
 /// - with a history (`has_history`): `History<dim>` default-constructed is "not in contact";
 ///   `touched(h)`: whether the last evaluation found the contact closed; `opening_force(c, h)`:
 ///   a force to add at the evaluation that finds the contact open (zero if none); `step_back`
-///   (undo the last advance before the same instant is evaluated again), `displace` (take up an
-///   imposed tangential displacement of the contact points), and `seen_from_partner(h)` found by
+///   (undo the last advance before the same instant is evaluated again), `displace(n, d, h)` (take up
+///   an imposed tangential displacement d of the contact points at a contact with normal n), and `seen_from_partner(h)` found by
 ///   argument-dependent lookup (the history when the pair's two particles swap roles).
 /// A law and its histories are plain data (numbers and fixed-size vectors, no pointers): state
 /// files store them as bytes.
@@ -76,7 +76,7 @@ concept ContactLawIn =
          { law.touched(before) } -> std::convertible_to<bool>;
          { law.opening_force(c, before) } -> std::same_as<Vec<dim>>;
          law.step_back(u, u, 1.0, 1.0, h);
-         law.displace(u, h);
+         law.displace(u, u, h);
          { seen_from_partner(before) } -> std::same_as<typename L::template History<dim>>;
      });
 
@@ -171,8 +171,8 @@ struct ContactLaw {
     }
 
     template <int dim>
-    void displace(const Vec<dim>& tangential_displacement, History<dim>& h) const {
-        tangential.displace(tangential_displacement, h);
+    void displace(const Vec<dim>& n, const Vec<dim>& tangential_displacement, History<dim>& h) const {
+        tangential.displace(n, tangential_displacement, h);
     }
 };
 

@@ -127,8 +127,8 @@ public:
     }
 
     template <int dim>
-    void displace(const Vec<dim>& tangential_displacement, History<dim>& h) const {
-        friction_.displace(tangential_displacement, h);
+    void displace(const Vec<dim>& n, const Vec<dim>& tangential_displacement, History<dim>& h) const {
+        friction_.displace(n, tangential_displacement, h);
     }
 
     /// The restitution of x'' = -x^(3/2) - alpha x^(1/4) x' (see above), by the classical

@@ -6,22 +6,12 @@
 #include <cmath>
 #include <concepts>
 
+#include "micromacro/contact/tangential_history.hpp"
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/core/inline.hpp"
 
 namespace micromacro {
-
-/// Tangential force on particle i and the energy it dissipated during this step.
-template <int dim>
-struct TangentialForce {
-    Vec<dim> force = Vec<dim>::Zero();
-    double dissipated_viscous = 0.0;  ///< by gamma_t while sticking
-    double dissipated_sliding = 0.0;  ///< by Coulomb sliding (incl. the spring reset of Eq. 28)
-    bool sliding = false;
-};
-
-struct NoHistory {};
 
 /// No tangential force: perfectly smooth particles.
 struct Frictionless {
@@ -32,29 +22,6 @@ struct Frictionless {
     double stiffness() const { return 0.0; }
     double damping() const { return 0.0; }
 };
-
-/// The Cundall-Strack tangential spring of Eq. 23-29, in 2D and 3D, with what its next step
-/// needs to know of the last one (see CundallStrack::force). A 2D record keeps Eigen's 16-byte
-/// alignment (48 bytes): packed to 40, its vectors straddle cache lines and the pair loop without
-/// energy books ran 0.88x (docs/performance.md).
-template <int dim>
-struct TangentialSpring {
-    Vec<dim> spring = Vec<dim>::Zero();  ///< xi of Eq. 23-28 at the last evaluation, t_n
-    Vec<dim> ahead = Vec<dim>::Zero();   ///< xi_n + dt v_{n-1/2} / 3, where the next step starts from
-    float trial = 0;                     ///< |trial force| of a sliding last evaluation (for opening_correction)
-    bool sliding = false;                ///< Coulomb state, for the static/dynamic hysteresis
-    bool touching = false;               ///< evaluated in contact before; false on a new contact
-    bool fresh = false;                  ///< the last evaluation was the contact's first
-};
-
-/// A contact's history as its other partner sees it, for when particles are renumbered and a
-/// pair's two particles swap roles: the spring is odd under the swap (the relative velocity it
-/// integrates and the force it gives change sign), the sliding state is shared.
-inline NoHistory seen_from_partner(NoHistory h) { return h; }
-template <int dim>
-TangentialSpring<dim> seen_from_partner(const TangentialSpring<dim>& h) {
-    return {Vec<dim>(-h.spring), Vec<dim>(-h.ahead), h.trial, h.sliding, h.touching, h.fresh};
-}
 
 class CundallStrack {
 public:
@@ -140,6 +107,14 @@ public:
                                                  double normal_force, double overlap, double dt, History<dim>& h) const {
         if constexpr (dim == 2)
             return force_along_line<track_energy>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
+        else
+            return force_in_plane<dim, track_energy>(n, relative_velocity, normal_velocity, normal_force, overlap, dt, h);
+    }
+
+    /// Eq. 23-29 on vectors in the tangent plane (3D), as described at force().
+    template <int dim, bool track_energy>
+    MICROMACRO_INLINE TangentialForce<dim> force_in_plane(const Vec<dim>& n, const Vec<dim>& relative_velocity, double normal_velocity,
+                                                          double normal_force, double overlap, double dt, History<dim>& h) const {
         using V = Vec<dim>;
         TangentialForce<dim> out;
         const V vt = relative_velocity - n * normal_velocity;                    // Eq. 24
@@ -194,49 +169,45 @@ public:
         return out;
     }
 
-    /// Eq. 23-29 in 2D, where the tangent plane is the line along t = (-n_1, n_0): the projections
-    /// become the components along t, scalars, and the pair loop saves about a third of its
-    /// arithmetic. The same physics as the vector form above to round-off (tests/physics/
-    /// tangential.cpp compares the two on a 2D contact embedded in 3D).
+    /// Eq. 23-29 in 2D, where the tangent plane is the line along t = (-n_1, n_0) and the spring
+    /// its component along t (TangentialSpring<2>): the projections of the vector form become
+    /// nothing, and the pair loop saves about a third of its arithmetic. The same time stepping,
+    /// Coulomb limit and books as the vector form; the two agree to round-off while the contact
+    /// does not turn (tests/physics/tangential.cpp).
     template <bool track_energy>
     MICROMACRO_INLINE TangentialForce<2> force_along_line(const Vec<2>& n, const Vec<2>& relative_velocity, double normal_velocity,
                                                           double normal_force, double overlap, double dt, History<2>& h) const {
         TangentialForce<2> out;
-        const Vec<2> t(-n.y(), n.x());
+        const Vec<2> t = tangent_of(n);
         const double vt = t.dot(relative_velocity);                    // Eq. 24
-        double base = 0.0, span;
-        if (h.touching) [[likely]] {  // as in the vector form
-            base = t.dot(h.ahead);
-            span = (2.0 / 3.0) * dt;
+        double spring, motion;  // as in the vector form
+        if (h.touching) [[likely]] {
+            spring = h.ahead + (2.0 / 3.0) * dt * vt;                  // Eq. 23, 27: xi_{n+1}
+            motion = spring - h.spring;
         } else {
-            span = time_in_contact(overlap, normal_velocity, dt);
+            spring = time_in_contact(overlap, normal_velocity, dt) * vt;
+            motion = dt * vt;
         }
-        const double spring = base + span * vt;                        // Eq. 23, 27: xi_{n+1} along the new tangent
-        Vec<2> motion;  // as in the vector form
-        if (h.touching) [[likely]]
-            motion = spring * t - h.spring;
-        else
-            motion = (dt * vt) * t;
         const double trial = -kt_ * spring - gamma_t_ * vt;            // Eq. 26
         const double fn = std::max(normal_force, 0.0), trial_magnitude = std::abs(trial);
         const double static_limit = mu_s_ * fn, dynamic_limit = mu_d_ * fn;
         // The hysteresis and reversal test of the vector form.
         const bool sliding = trial_magnitude > static_limit ||
-                             (h.sliding && trial_magnitude >= dynamic_limit && vt * t.dot(h.spring) >= 0.0);
+                             (h.sliding && trial_magnitude >= dynamic_limit && vt * h.spring >= 0.0);
         if (!sliding) {
             out.force = trial * t;
-            h.spring = spring * t;
             if constexpr (track_energy) out.dissipated_viscous = gamma_t_ * vt * vt * dt;
+            h.spring = spring;
         } else {
             const double direction = trial > 0.0 ? 1.0 : (trial < 0.0 ? -1.0 : 0.0);
             const double force = dynamic_limit * direction;
             out.force = force * t;                                                     // Eq. 29
             if constexpr (track_energy) {  // as in the vector form
-                const double stored = t.dot(h.spring);
+                const double stored = h.spring;
                 out.dissipated_sliding = 0.5 * (kt_ * stored - force) * (spring - stored) -
-                                         (0.5 * force * force / kt_ - elastic_energy<2>(h.spring));
+                                         0.5 * (force * force / kt_ - kt_ * stored * stored);
             }
-            h.spring = (-force / kt_) * t;                                             // Eq. 28
+            h.spring = -force / kt_;                                                   // Eq. 28
             h.trial = static_cast<float>(trial_magnitude);
         }
         h.ahead = h.spring + (1.0 / 3.0) * motion;
@@ -270,7 +241,7 @@ public:
     /// opens (mu = 5) the error falls at second order, 4.6e-4 at t_c/50 over every entry phase.
     template <int dim>
     Vec<dim> opening_correction(const Vec<dim>& n, const History<dim>& h, double normal_force, double s, double dt) const {
-        const Vec<dim> last = -kt_ * in_tangent_plane(n, h.spring);  // the last evaluation's force, less its dashpot
+        const Vec<dim> last = -kt_ * present_spring<dim>(n, h);  // the last evaluation's force, less its dashpot
         const double applied = last.norm();
         if (!(applied > 0.0 && s > 0.0)) return Vec<dim>::Zero();
         // A sliding contact's force was mu_d f_n exactly, and its trial force was kept.
@@ -304,7 +275,10 @@ public:
     /// The spring xi of the last evaluation, in the tangent plane of n.
     template <int dim>
     Vec<dim> present_spring(const Vec<dim>& n, const History<dim>& h) const {
-        return in_tangent_plane(n, h.spring);
+        if constexpr (dim == 2)
+            return h.spring * tangent_of(n);
+        else
+            return in_tangent_plane(n, h.spring);
     }
 
     /// The tangential force of the present state without advancing the spring: Eq. 26 with the
@@ -320,11 +294,13 @@ public:
     }
 
     /// An imposed tangential displacement of the contact points (an affine deformation of the
-    /// scene): the spring takes it up, and so does where its next step starts.
+    /// scene) at a contact with normal n: the spring takes it up, and so does where its next step
+    /// starts.
     template <int dim>
-    void displace(const Vec<dim>& tangential_displacement, History<dim>& h) const {
-        h.spring += tangential_displacement;
-        h.ahead += tangential_displacement;
+    void displace(const Vec<dim>& n, const Vec<dim>& tangential_displacement, History<dim>& h) const {
+        const Spring<dim> d = coordinates(n, tangential_displacement);
+        h.spring += d;
+        h.ahead += d;
     }
 
     /// Takes back the last evaluation's advance of the spring, so that evaluating the same instant
@@ -342,10 +318,10 @@ public:
             h = History<dim>{};
             return;
         }
-        const Vec<dim> v = in_tangent_plane(n, relative_velocity), spring = in_tangent_plane(n, h.spring);
-        const Vec<dim> half_kick = (v - in_tangent_plane(n, Vec<dim>(3.0 * (h.ahead - h.spring))) / dt_last) * (dt_next / dt_last);
+        const Spring<dim> v = velocity_coordinates(n, relative_velocity), spring = in_plane<dim>(n, h.spring);
+        const Spring<dim> half_kick = (v - in_plane<dim>(n, Spring<dim>(3.0 * (h.ahead - h.spring))) / dt_last) * (dt_next / dt_last);
         // The re-evaluation's (2 dt v + motion) / 3 is then dt (v - half_kick).
-        const Vec<dim> motion = dt_next * (v - 3.0 * half_kick);
+        const Spring<dim> motion = dt_next * (v - 3.0 * half_kick);
         h.spring = spring - dt_next * (v - half_kick);
         h.ahead = h.spring + (1.0 / 3.0) * motion;
     }
@@ -355,6 +331,34 @@ private:
     template <int dim>
     static Vec<dim> in_tangent_plane(const Vec<dim>& n, const Vec<dim>& u) {
         return u - n * n.dot(u);
+    }
+
+    /// How a history holds a spring: a number along the tangent in 2D, a vector in 3D.
+    template <int dim>
+    using Spring = decltype(History<dim>::spring);
+    /// A tangential vector as a history holds it.
+    template <int dim>
+    static Spring<dim> coordinates(const Vec<dim>& n, const Vec<dim>& tangential) {
+        if constexpr (dim == 2)
+            return tangent_of(n).dot(tangential);
+        else
+            return tangential;
+    }
+    /// The tangential part of a velocity as a history holds a spring.
+    template <int dim>
+    static Spring<dim> velocity_coordinates(const Vec<dim>& n, const Vec<dim>& u) {
+        if constexpr (dim == 2)
+            return tangent_of(n).dot(u);
+        else
+            return in_tangent_plane(n, u);
+    }
+    /// A stored spring in the tangent plane of n: a 2D spring turns with the contact already.
+    template <int dim>
+    static Spring<dim> in_plane(const Vec<dim>& n, const Spring<dim>& s) {
+        if constexpr (dim == 2)
+            return s;
+        else
+            return in_tangent_plane(n, s);
     }
 
     double kt_, gamma_t_, mu_s_, mu_d_;

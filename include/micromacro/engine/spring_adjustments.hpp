@@ -50,7 +50,7 @@ void load_springs_affinely(const Eigen::Matrix<double, dim, dim>& F, const Conta
     using V = Vec<dim>;
     auto load = [&](History& h, const V& l) {
         const V n = l.normalized(), moved = F * l - l;
-        law.displace(V(moved - n * n.dot(moved)), h);
+        law.displace(n, V(moved - n * n.dot(moved)), h);
     };
     for (std::size_t c = 0; c < pairs.size(); ++c) {
         const auto [i, j] = pairs.pairs()[c];

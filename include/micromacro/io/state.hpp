@@ -31,7 +31,9 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 // 5: wall motions by name
 // 6: 2D tangential springs without alignment padding (40-byte records); particle ids; the
 //    engine's spatial sorting (count, reference distance, on/off)
-inline constexpr std::uint32_t state_version = 7;
+// 7: walls' shapes in the scene signature
+// 8: 2D tangential springs as components along the tangent (24-byte records)
+inline constexpr std::uint32_t state_version = 8;
 
 /// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it
 /// (each step is a bijection of the running value); other changes go unseen with chance 2^-64.
