@@ -15,6 +15,7 @@
 
 #include <micromacro/mpi/distributed_run.hpp>
 
+#include "support/mpi_lattice.hpp"
 #include "support/mpi_runtime.hpp"
 #include "support/scenes.hpp"
 
@@ -25,40 +26,7 @@ using mmtest::MpiRuntime;
 BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
-// A jittered lattice of particles with radii 0.995-1.005 mm, spaced 1.99 mm in a periodic box,
-// so that neighbours overlap by up to about 1.5% of a radius; random velocities of 0.2 m/s
-// and spins of 40 rad/s. The same on every rank. Rows of particles sit on the box's end and on the
-// boundaries between ranks (at multiples of the spacing), a few micrometres either side, so that
-// moving a few micrometres takes some of them to another rank.
-template <int dim>
-auto lattice(int per_side, double skin) {
-    const double spacing = 1.99e-3, L = per_side * spacing;
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(mmtest::k, mmtest::gamma0), mm::CundallStrack(0.2 * mmtest::k, 0.02, 0.5)};
-    mm::BasicSimulation<dim, double, mm::FrictionalLinear> sim(law, mmtest::periodic_box<dim>(L));
-    std::mt19937_64 rng(23);
-    std::uniform_real_distribution<double> U(-1.0, 1.0);
-    std::normal_distribution<double> N(0.0, 1.0);
-    const int n = dim == 2 ? per_side * per_side : per_side * per_side * per_side;
-    for (int k = 0; k < n; ++k) {
-        mm::Vec<dim> x;
-        int rest = k;
-        for (int a = 0; a < dim; ++a) {
-            x[a] = (rest % per_side) * spacing + 0.005e-3 * U(rng);  // rows on the ranks' boundaries
-            if (x[a] < 0.0) x[a] += L;
-            rest /= per_side;
-        }
-        const double r = 1e-3 + 0.005e-3 * U(rng);
-        const std::size_t i = sim.particles().add(x, r, mm::sphere_mass(mmtest::rho, r));
-        for (int a = 0; a < dim; ++a) sim.particles().velocity()[i][a] = 0.2 * N(rng);
-        auto& w = sim.particles().template get<mm::field::AngularVelocity>()[i];
-        if constexpr (dim == 2) w = 40.0 * N(rng);
-        else w = mm::Vec<3>(40.0 * N(rng), 40.0 * N(rng), 40.0 * N(rng));
-    }
-    sim.set_time_step(mm::contact_duration(mmtest::k, mmtest::gamma0, mm::sphere_mass(mmtest::rho, 0.995e-3) / 2) / 50);
-    sim.set_skin(skin);
-    sim.set_auto_sort(false);
-    return sim;
-}
+using mmtest::lattice;
 
 template <int dim>
 double largest(const std::vector<mm::Vec<dim>>& v) {

@@ -13,6 +13,7 @@
 //   C^n     = 1/V sum w  k   l^2 n_a n_b n_c n_d
 //   C^t     = 1/V sum w  k_t l^2 n_a n_c (delta_bd - n_b n_d)    (= n_a t_b n_c t_d in 2D)
 #include <cmath>
+#include <utility>
 #include <vector>
 
 #include "micromacro/averaging/contact_sums.hpp"
@@ -118,12 +119,15 @@ struct ContactWeights {
     std::vector<double> volume; ///< w_V: the fabric's volume weight
 };
 
+/// The weights with the rattlers given (one flag per particle), for a packing whose rattlers
+/// cannot be found from the snapshot alone (one process's part of a split packing).
 template <int dim>
-ContactWeights<dim> contact_weights(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt) {
+ContactWeights<dim> contact_weights(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt,
+                                    std::vector<char> rattler) {
     ContactWeights<dim> cw;
     cw.inside.resize(s.size());
     for (std::size_t p = 0; p < s.size(); ++p) cw.inside[p] = region.contains(detail::wrapped(s, s.position[p]));
-    cw.rattler = detail::find_rattlers(s);
+    cw.rattler = std::move(rattler);
     const std::size_t n = s.contacts.size();
     cw.counted.assign(n, 1);
     cw.branch.assign(n, 0.0);
@@ -150,12 +154,44 @@ ContactWeights<dim> contact_weights(const PackingSnapshot<dim>& s, const Region<
 }
 
 template <int dim>
-MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt = {}) {
-    MicroMacro<dim> out;
-    out.volume = region.volume();
-    const double V = out.volume;
-    const ContactWeights<dim> cw = contact_weights(s, region, opt);
+ContactWeights<dim> contact_weights(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt) {
+    return contact_weights(s, region, opt, detail::find_rattlers(s));
+}
 
+/// What an average adds up over particles and contacts before its tensors are derived: sums,
+/// so that the parts of a packing split over processes add to the whole's.
+template <int dim>
+struct AverageSums {
+    ContactSums<dim> contacts;                                  ///< per unit volume
+    Tensor2<dim> stress_kinetic = Tensor2<dim>::Zero();         ///< per unit volume
+    double particles = 0, rattlers = 0, contact_count = 0;      ///< counts
+    double solid = 0, counted = 0, contact_sum = 0, weight_sum = 0, sliding_weight = 0;
+
+    /// Every number, in one order, for a reduction over processes.
+    template <class F>
+    void for_each_number(F&& f) {
+        for (Tensor2<dim>* t : {&contacts.fabric, &contacts.stress_normal, &contacts.stress_tangential, &stress_kinetic})
+            for (int k = 0; k < dim * dim; ++k) f(t->data()[k]);
+        for (Tensor4<dim>* t : {&contacts.stiffness_normal, &contacts.stiffness_tangential})
+            for (int k = 0; k < dim * dim * dim * dim; ++k) f(t->data()[k]);
+        for (double* x : {&particles, &rattlers, &contact_count, &solid, &counted, &contact_sum, &weight_sum, &sliding_weight})
+            f(*x);
+    }
+};
+
+/// Which particles and contacts of a snapshot an average adds (null: all): each process of a
+/// split packing adds its own particles and the contacts it is the one to count.
+struct AveragingShare {
+    std::vector<char> particle, contact;
+};
+
+/// The sums of the average over `region` with weights `cw` (contact_weights), of the share
+/// given or of everything.
+template <int dim>
+AverageSums<dim> average_sums(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt,
+                              const ContactWeights<dim>& cw, const AveragingShare* share = nullptr) {
+    AverageSums<dim> out;
+    const double V = region.volume();
     // Particles: count, volume fraction, kinetic stress, coordination.
     std::vector<int> contacts_of(s.size(), 0);
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
@@ -163,39 +199,47 @@ MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region
         ++contacts_of[s.contacts[q].i];
         if (!s.contacts[q].wall) ++contacts_of[s.contacts[q].j];
     }
-    double solid = 0.0, counted = 0.0, contact_sum = 0.0;
     for (std::size_t p = 0; p < s.size(); ++p) {
-        if (!cw.inside[p]) continue;
-        ++out.particles;
+        if (!cw.inside[p] || (share && !share->particle[p])) continue;
+        out.particles += 1.0;
         out.rattlers += cw.rattler[p];
-        solid += DimTraits<dim>::particle_volume(s.radius[p]);
+        out.solid += DimTraits<dim>::particle_volume(s.radius[p]);
         if (opt.kinetic_stress && !s.velocity.empty())
             out.stress_kinetic += s.mass[p] * s.velocity[p] * s.velocity[p].transpose() / V;
         if (opt.exclude_rattlers && cw.rattler[p]) continue;
-        counted += 1.0;
-        contact_sum += contacts_of[p];
+        out.counted += 1.0;
+        out.contact_sum += contacts_of[p];
     }
-    out.volume_fraction = solid / V;
-    out.coordination = counted > 0 ? contact_sum / counted : 0.0;
-
     // Contacts.
-    ContactSums<dim> sums;
-    double weight_sum = 0.0, sliding_weight = 0.0;
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
         const auto& c = s.contacts[q];
         const double w = cw.branch[q], w_fabric = cw.volume[q];
-        if (w == 0.0 && w_fabric == 0.0) continue;
-        ++out.contacts;
-        sums.add(c, w / V, w_fabric / V, !(opt.exclude_sliding_from_tangential_stiffness && c.sliding));
-        weight_sum += w;
-        sliding_weight += c.sliding ? w : 0.0;
+        if ((w == 0.0 && w_fabric == 0.0) || (share && !share->contact[q])) continue;
+        out.contact_count += 1.0;
+        out.contacts.add(c, w / V, w_fabric / V, !(opt.exclude_sliding_from_tangential_stiffness && c.sliding));
+        out.weight_sum += w;
+        out.sliding_weight += c.sliding ? w : 0.0;
     }
-    out.fabric = sums.fabric;
-    out.stress_normal = sums.stress_normal;
-    out.stress_tangential = sums.stress_tangential;
-    out.stiffness_normal = sums.stiffness_normal;
-    out.stiffness_tangential = sums.stiffness_tangential;
-    out.sliding_fraction = weight_sum > 0 ? sliding_weight / weight_sum : 0.0;
+    return out;
+}
+
+/// The average from its sums over a region of volume V.
+template <int dim>
+MicroMacro<dim> finish_average(const AverageSums<dim>& sums, double V) {
+    MicroMacro<dim> out;
+    out.volume = V;
+    out.particles = static_cast<std::size_t>(sums.particles);
+    out.rattlers = static_cast<std::size_t>(sums.rattlers);
+    out.contacts = static_cast<std::size_t>(sums.contact_count);
+    out.stress_kinetic = sums.stress_kinetic;
+    out.volume_fraction = sums.solid / V;
+    out.coordination = sums.counted > 0 ? sums.contact_sum / sums.counted : 0.0;
+    out.fabric = sums.contacts.fabric;
+    out.stress_normal = sums.contacts.stress_normal;
+    out.stress_tangential = sums.contacts.stress_tangential;
+    out.stiffness_normal = sums.contacts.stiffness_normal;
+    out.stiffness_tangential = sums.contacts.stiffness_tangential;
+    out.sliding_fraction = sums.weight_sum > 0 ? sums.sliding_weight / sums.weight_sum : 0.0;
 
     out.contact_number_density = out.fabric.trace();
     out.g2 = out.volume_fraction * out.coordination > 0 ? out.contact_number_density / (out.volume_fraction * out.coordination) : 0.0;
@@ -206,6 +250,11 @@ MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region
     out.pressure = out.stress.trace() / dim;
     out.stress_deviator = deviator_magnitude<dim>(out.stress);
     return out;
+}
+
+template <int dim>
+MicroMacro<dim> average(const PackingSnapshot<dim>& s, const Region<dim>& region, const AveragingOptions& opt = {}) {
+    return finish_average(average_sums(s, region, opt, contact_weights(s, region, opt)), region.volume());
 }
 
 /// Stress read from the walls of a box: sigma_aa = mean push of the two walls of axis a divided by

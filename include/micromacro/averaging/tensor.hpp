@@ -29,6 +29,8 @@ public:
     double& operator()(int a, int b, int c, int d) { return m_(a * dim + b, c * dim + d); }
     double operator()(int a, int b, int c, int d) const { return m_(a * dim + b, c * dim + d); }
     const Matrix& matrix() const { return m_; }
+    /// The dim^4 numbers, column-major (for sums over processes).
+    double* data() { return m_.data(); }
 
     Tensor4& operator+=(const Tensor4& o) {
         m_ += o.m_;

@@ -67,6 +67,10 @@ public:
     }
 
     const CartesianComm<dim>& comm() const { return comm_; }
+    /// The whole scene's box.
+    const Domain<dim>& box() const { return box_; }
+    /// This rank's ghosts, for sending values of its particles to the ranks that see them.
+    const Halo<dim>& halo() const { return *halo_; }
     /// The engine of this rank: its particles [0, owned()) are this rank's, the rest ghosts.
     const Sim& local() const { return *local_; }
     std::size_t owned() const { return owned_; }
@@ -93,7 +97,19 @@ public:
         refresh_or_redistribute();
     }
     void compute_forces() { local_->compute_forces(); }
-    void kick_force_change(double h) { local_->kick_force_change(h); }
+    void kick_force_change(double h) {
+        local_->kick_force_change(h);
+        ghosts_current_ = false;
+    }
+
+    /// The ghosts from their owners' present state. After a step the ghosts' velocities miss the
+    /// step's closing kick (the next step's particle pass refreshes them before any force is
+    /// computed); what reads the ghosts between steps, such as the averages, calls this first.
+    /// A collective call: every rank must make it.
+    void refresh_ghosts() {
+        if (ghosts_current_) return;
+        refresh_halo();
+    }
 
 private:
     /// A particle with what its new rank needs mid-step: its state and its last force and torque.
@@ -125,7 +141,6 @@ private:
     /// has moved half the skin or an engine has rebuilt its lists from ghosts it integrated
     /// itself, a redistribution. Decided over every rank at once.
     void refresh_or_redistribute() {
-        const auto& p = local_->particles();
         // The engine's own largest move since the distribution (its last rebuild): its ghosts'
         // are one step's integration off, but each ghost's owner counts it exactly.
         const double here[2] = {local_->largest_move(), local_->neighbor_rebuilds() != rebuilds_ ? 1.0 : 0.0};
@@ -135,9 +150,15 @@ private:
             redistribute();
             return;
         }
+        refresh_halo();
+    }
+
+    void refresh_halo() {
+        const auto& p = local_->particles();
         halo_->refresh(comm_, [&](std::size_t i) { return record_of(p, i, global_[i]); });
         const auto& ghosts = halo_->ghosts();
         for (std::size_t k = 0; k < ghosts.size(); ++k) write_motion(owned_ + k, ghosts[k]);
+        ghosts_current_ = true;
     }
 
     /// The particles that left this rank's subdomain go to the ranks that own their positions
@@ -251,6 +272,7 @@ private:
         local_->set_track_energy(false);  // the books would count the ghosts' contacts too
         local_->prepare();                // the lists (and, at the start, the first forces)
         rebuilds_ = local_->neighbor_rebuilds();
+        ghosts_current_ = true;
         if (first) return;
         auto& p = local_->particles();
         for (std::size_t i = 0; i < owned_; ++i) {
@@ -272,6 +294,7 @@ private:
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts
     std::size_t owned_ = 0, rebuilds_ = 0, redistributions_ = 0;
+    bool ghosts_current_ = true;  // false from a closing kick to the next refresh
     double skin_, dt_, width_ = 0.0;
 };
 

@@ -9,6 +9,7 @@
 // refresh() (LAMMPS's forward_comm) sends the same particles' new states along the same swaps,
 // for the steps until the next rebuild. Needs a halo no wider than a slab
 // (CartesianSplit::check_halo).
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <type_traits>
@@ -65,16 +66,16 @@ ParticleRecord record_of(const Particles<dim, true, Real>& p, std::size_t i, Ind
 namespace halo_detail {
 /// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL);
 /// `expected`: the count that comes, when known (a refresh), else it is sent first.
-inline std::vector<ParticleRecord> shift(MPI_Comm comm, const std::vector<ParticleRecord>& out, int to, int from,
-                                         long long expected = -1) {
+template <class T>
+std::vector<T> shift(MPI_Comm comm, const std::vector<T>& out, int to, int from, long long expected = -1) {
     unsigned long long sending = out.size(), receiving = expected < 0 ? 0 : static_cast<unsigned long long>(expected);
     if (expected < 0)
         check(MPI_Sendrecv(&sending, 1, MPI_UNSIGNED_LONG_LONG, to, 0, &receiving, 1, MPI_UNSIGNED_LONG_LONG, from, 0, comm,
                            MPI_STATUS_IGNORE),
               "MPI_Sendrecv (halo counts)");
-    std::vector<ParticleRecord> in(receiving);
-    const int out_bytes = static_cast<int>(out.size() * sizeof(ParticleRecord));
-    const int in_bytes = static_cast<int>(in.size() * sizeof(ParticleRecord));
+    std::vector<T> in(receiving);
+    const int out_bytes = static_cast<int>(out.size() * sizeof(T));
+    const int in_bytes = static_cast<int>(in.size() * sizeof(T));
     check(MPI_Sendrecv(out.data(), out_bytes, MPI_BYTE, to, 1, in.data(), in_bytes, MPI_BYTE, from, 1, comm, MPI_STATUS_IGNORE),
           "MPI_Sendrecv (halo particles)");
     return in;
@@ -130,6 +131,23 @@ public:
             const auto in = send(comm, s, owned, static_cast<long long>(s.received_count));
             for (std::size_t k = 0; k < in.size(); ++k) ghosts_[s.received_begin + k] = in[k];
         }
+    }
+
+    /// A value per particle from the owners to the ghosts (LAMMPS's forward_comm of a per-atom
+    /// quantity): `owned` by owned index, the ghosts' in the order of ghosts().
+    template <class T>
+        requires std::is_trivially_copyable_v<T>
+    std::vector<T> forward(const CartesianComm<dim>& comm, const std::vector<T>& owned) const {
+        std::vector<T> ghost(ghosts_.size());
+        for (const Swap& s : swaps_) {
+            std::vector<T> out;
+            out.reserve(s.sent.size());
+            for (const std::size_t k : s.sent) out.push_back(k < owned_count_ ? owned[k] : ghost[k - owned_count_]);
+            const auto in = halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction),
+                                               comm.neighbour(s.axis, -s.direction), static_cast<long long>(s.received_count));
+            std::copy(in.begin(), in.end(), ghost.begin() + static_cast<std::ptrdiff_t>(s.received_begin));
+        }
+        return ghost;
     }
 
     /// What a refresh sends from this rank: bytes and messages (one per swap with a neighbour).
