@@ -155,11 +155,8 @@ public:
     /// order[k] (a permutation of 0..n-1); everything follows as in sort_spatially.
     void renumber(const std::vector<Index>& order);
 
-    /// Scenes of this many particles or more are sorted by the engine. A random order costs at
-    /// every size (a shuffled scene ran at 0.96-0.97 of a sorted one with 500 particles, 0.94-0.95
-    /// with 2000, 0.5 with 100 000; docs/performance.md), but below this the particles keep the
-    /// numbers the caller gave them, which small scenes are usually inspected by, and the paper's
-    /// 2D packing of 1950 keeps the bits its documents were made with.
+    /// Scenes of this many particles or more are sorted by the engine; smaller ones keep the
+    /// caller's numbers, which they are usually inspected by (the costs: docs/performance.md).
     static constexpr std::size_t auto_sort_min_particles = 2048;
     /// On (the default), the engine sorts the particles spatially when it first builds its
     /// neighbour lists and again at a rebuild that finds the order decayed, as LAMMPS sorts its
@@ -170,6 +167,9 @@ public:
     bool auto_sort() const { return auto_sort_; }
     /// How often the particles were sorted, by sort_spatially or on the engine's own.
     std::size_t spatial_sorts() const { return sorts_; }
+    /// Particles from index `first` on are ghosts, copies of particles another process computes
+    /// (mpi::DistributedRun): the lists leave out pairs of two ghosts. Default: none.
+    void set_first_ghost(std::size_t first) { first_ghost_ = first; }
 
     /// The spacing of representable coordinates at the farthest particle or wall from the origin
     /// (one unit in the last place): overlaps are differences of coordinates, so this is the
@@ -380,6 +380,7 @@ private:
     // the last neighbour search, which measures it (see rebuild_neighbors).
     double sorted_gap_ = 0.0;
     bool auto_sort_ = true;
+    std::size_t first_ghost_ = std::numeric_limits<std::size_t>::max();
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
     bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick
 };

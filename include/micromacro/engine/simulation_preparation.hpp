@@ -170,6 +170,10 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
             sorted_gap_ = mean_index_gap(next);
         }
     }
+    if (first_ghost_ < particles_.size())  // two ghosts' pair is their owners' to compute
+        next.erase(std::remove_if(next.begin(), next.end(),
+                                  [g = static_cast<Index>(first_ghost_)](const IndexPair& p) { return p.i >= g && p.j >= g; }),
+                   next.end());
     pairs_.commit_scratch();
     reference_ = x;
     if constexpr (has_walls) {

@@ -269,6 +269,7 @@ private:
         local_->set_time_step(dt_);
         local_->set_skin(skin_);
         local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
+        local_->set_first_ghost(owned_);  // two ghosts' forces are their owners' to compute
         local_->set_track_energy(false);  // the books would count the ghosts' contacts too
         local_->prepare();                // the lists (and, at the start, the first forces)
         rebuilds_ = local_->neighbor_rebuilds();
