@@ -104,27 +104,23 @@ public:
         prepared_ = false;
     }
     double skin() const { return skin_; }
-    /// Lets prepare() accept a time step above the stability limit (a blow-up is then detected
-    /// and reported instead of refused up front).
+    /// Lets prepare() accept dt above the stability limit (a blow-up is reported, not refused).
     void allow_unstable_time_step(bool allow) { allow_unstable_ = allow; }
     /// Energy tracking costs a few flops per contact; on by default.
     void set_track_energy(bool on) { track_energy_ = on; }
-    /// Lets prepare() accept positions stored more coarsely than 1e-6 of the smallest radius
-    /// (see position_resolution(); float storage usually needs this).
+    /// Lets prepare() accept positions coarser than 1e-6 of the smallest radius (float storage).
     void allow_coarse_positions(bool allow) {
         allow_coarse_positions_ = allow;
         prepared_ = false;
     }
 
-    /// Threads for the pair loop and the particle passes (OpenMP; compile with -fopenmp). The
-    /// candidates are split into equal contiguous shares, each thread adds its forces into its
-    /// own array and the arrays are summed in thread order: a fixed thread count gives the same
-    /// bits every run, another count differs by round-off only.
+    /// Threads for the pair loop and the particle passes (OpenMP): equal contiguous shares of the
+    /// candidates, each thread's forces summed in thread order, so a fixed thread count gives the
+    /// same bits every run and another count differs by round-off only.
     void set_threads(int threads);
     int threads() const { return threads_; }
-    /// Threads actually used: starting a team costs microseconds, so a scene with fewer than
-    /// 2000 particles per thread runs serially (the choice depends only on N and the count, so
-    /// a fixed count still gives the same bits).
+    /// Threads actually used: a scene with fewer than 2000 particles per thread runs serially
+    /// (starting a team costs microseconds; a fixed count still gives the same bits).
     int active_threads() const {
         return particles_.size() >= 2000 * static_cast<std::size_t>(threads_) ? threads_ : 1;
     }
@@ -134,8 +130,6 @@ public:
     /// contact point moved by translation and, where particles turn, rotation), and a
     /// stress-controlled wall on one particle (Eq. 22's oscillator, limits from the integrators).
     /// Many contacts on one particle stiffen it further: this bound is necessary, not sufficient.
-    /// Below it an undamped tangential spring (gamma_t = 0) still grows, by about (omega_t dt)^3
-    /// per period (1e-4 at the paper's omega_t dt = 0.05, 1e-3 at 0.1): a little damping absorbs it.
     double stable_time_step() const;
 
     /// Checks the scene, builds the neighbour lists and computes the forces. Called by the first
@@ -201,6 +195,8 @@ public:
     }
     double time() const { return time_; }
     std::size_t steps_done() const { return steps_; }
+    /// Sets the clock, for a state assembled elsewhere (mpi::DistributedRun::whole_scene).
+    void set_clock(double time, std::size_t steps) { time_ = time, steps_ = steps; }
     std::size_t neighbor_rebuilds() const { return rebuilds_; }
     /// The largest displacement of a particle from where the last rebuild found it, after the last pass.
     double largest_move() const { return last_move_; }
@@ -243,6 +239,10 @@ public:
     /// evaluation left it and open to change: how a distributed run hands springs between ranks.
     template <class F>
     void visit_pair_histories(F&& f) requires Law::has_history {
+        for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_.pairs()[c].i, pairs_.pairs()[c].j, pairs_.history(c));
+    }
+    template <class F>
+    void visit_pair_histories(F&& f) const requires Law::has_history {
         for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_.pairs()[c].i, pairs_.pairs()[c].j, pairs_.history(c));
     }
 

@@ -47,23 +47,38 @@ public:
     static_assert(Sim::rotation && Law::has_history,
                   "DistributedRun: needs a law with rotation and springs (the records carry angular velocities)");
 
+    /// How a run takes over `whole`: `fresh` computes the first forces, `resume` keeps the forces,
+    /// torques and springs of whole's last evaluation (a scene that has run, or one loaded from a
+    /// state file, such as one written from whole_scene in mpi/checkpoint.hpp), so that the run
+    /// continues as whole would have.
+    enum class Start { fresh, resume };
+
     /// Splits `whole` (the same scene on every rank: particles, law, dt, skin, a box) over the
-    /// ranks of `parent` and computes the first forces. The skin is the scene's, or the engine's
-    /// default (a fifth of the mean radius); the halo is the largest contact distance plus it.
-    DistributedRun(MPI_Comm parent, const Sim& whole)
-        : comm_(parent, whole.domain()), box_(whole.domain()), law_(whole.law()), skin_(whole.skin()), dt_(whole.time_step()) {
+    /// ranks of `parent`. The skin is the scene's, or the engine's default (a fifth of the mean
+    /// radius); the halo is the largest contact distance plus it. The clock starts at whole's.
+    DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh)
+        : comm_(parent, whole.domain()), box_(whole.domain()), law_(whole.law()), skin_(whole.skin()), dt_(whole.time_step()),
+          time_(whole.time()), steps_(whole.steps_done()) {
         const auto& p = whole.particles();
         if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
         width_ = interaction_range(p.radius(), skin_);
+        const bool resume = start == Start::resume;
         std::vector<State> all;
         for (std::size_t i = 0; i < p.size(); ++i) {
             State s{record_of(p, i, p.id(i)), {}, {}};
             Vec<dim> x = p.position()[i];
             box_.wrap(x);  // as the serial engine does before its first step
-            for (int a = 0; a < dim; ++a) s.r.x[a] = x[a];
+            for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = resume ? double(p.force()[i][a]) : 0.0;
+            if (resume) s.torque = record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]));
             all.push_back(s);
         }
-        distribute(all, {}, true);
+        std::map<std::pair<Index, Index>, History> springs;
+        if (resume)
+            whole.visit_pair_histories([&](Index i, Index j, const History& h) {
+                const Index a = p.id(i), b = p.id(j);
+                springs.emplace(a < b ? std::pair{a, b} : std::pair{b, a}, a < b ? h : seen_from_partner(h));
+            });
+        distribute(all, springs, !resume);
     }
 
     const CartesianComm<dim>& comm() const { return comm_; }
@@ -78,6 +93,10 @@ public:
     double skin() const { return skin_; }
     /// The global id of local particle i (the whole scene's particle id).
     Index global_id(std::size_t i) const { return global_[local_->particles().id(i)]; }
+    /// The scene's clock (a rank's engine starts anew at every redistribution).
+    double time() const { return time_; }
+    std::size_t steps_done() const { return steps_; }
+    double time_step() const { return dt_; }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
     /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
@@ -94,6 +113,8 @@ public:
     // ---- the stages the integrator policy calls ------------------------------------------------
     void kick_drift_kick(double h_before, double dt, double h_after, double h_closing = 0.0) {
         local_->kick_drift_kick(h_before, dt, h_after, h_closing);
+        time_ += dt;
+        ++steps_;
         refresh_or_redistribute();
     }
     void compute_forces() { local_->compute_forces(); }
@@ -296,7 +317,8 @@ private:
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts
     std::size_t owned_ = 0, rebuilds_ = 0, redistributions_ = 0;
     bool ghosts_current_ = true;  // false from a closing kick to the next refresh
-    double skin_, dt_, width_ = 0.0;
+    double skin_, dt_, width_ = 0.0, time_;
+    std::size_t steps_;
 };
 
 }  // namespace micromacro::mpi

@@ -1,0 +1,105 @@
+#pragma once
+// Checkpoints of a scene run over MPI ranks: whole_scene() gathers the ranks' particles, their
+// last forces and torques and every pair's spring into one serial scene on every rank, the
+// state the serial engine would hold. io::save_state writes it like any scene; loaded again, it
+// continues serially, or over any number of ranks through DistributedRun's Start::resume. So a
+// checkpoint restarts on another rank count and on one process. Every rank then holds the whole
+// scene, as every rank holds it when a run starts.
+#include <cstddef>
+#include <map>
+#include <utility>
+#include <vector>
+
+#include <mpi.h>
+
+#include "micromacro/engine/simulation.hpp"
+#include "micromacro/mpi/communicator.hpp"
+#include "micromacro/mpi/distributed_run.hpp"
+#include "micromacro/mpi/halo.hpp"
+
+namespace micromacro::mpi {
+
+namespace checkpoint_detail {
+/// What every rank sends of one of its particles.
+struct Particle {
+    ParticleRecord r;
+    std::array<double, 3> force, torque;
+};
+
+/// Every rank's `mine`, on every rank, in rank order (MPI_Allgatherv of bytes).
+template <class T>
+std::vector<T> all_of(MPI_Comm comm, const std::vector<T>& mine) {
+    int ranks = 1;
+    check(MPI_Comm_size(comm, &ranks), "MPI_Comm_size");
+    const int bytes = static_cast<int>(mine.size() * sizeof(T));
+    std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks), 0);
+    check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm), "MPI_Allgather (checkpoint sizes)");
+    for (std::size_t k = 1; k < counts.size(); ++k) offsets[k] = offsets[k - 1] + counts[k - 1];
+    std::vector<T> all(static_cast<std::size_t>(offsets.back() + counts.back()) / sizeof(T));
+    check(MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm),
+          "MPI_Allgatherv (checkpoint)");
+    return all;
+}
+}  // namespace checkpoint_detail
+
+/// The whole scene of `run` as one serial scene, the same on every rank (a collective call):
+/// particles numbered by their global ids (the numbering of the scene the run started from),
+/// their positions (in the box), velocities, angular velocities and the last forces and torques,
+/// each pair's spring, the run's clock, time step and skin. Energy books are off (a distributed
+/// run keeps none) and so is the engine's own sorting, so that indices stay the global ids.
+template <class Sim>
+Sim whole_scene(const DistributedRun<Sim>& run) {
+    constexpr int dim = Sim::dimension;
+    using History = typename Sim::History;
+    const Sim& local = run.local();
+    const auto& p = local.particles();
+    std::vector<checkpoint_detail::Particle> mine;
+    for (std::size_t i = 0; i < run.owned(); ++i)
+        mine.push_back({record_of(p, i, run.global_id(i)), record_vector<dim>(convert<double>(p.force()[i])),
+                        record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]))});
+    // Each pair's spring once: from the rank that owns its partner of smaller global id.
+    struct Spring {
+        Index a, b;
+        History h;  // as a sees it
+    };
+    std::vector<Spring> springs;
+    local.visit_pair_histories([&](Index i, Index j, const History& h) {
+        const Index a = run.global_id(i), b = run.global_id(j);
+        if ((a < b ? i : j) >= run.owned()) return;
+        springs.push_back(a < b ? Spring{a, b, h} : Spring{b, a, seen_from_partner(h)});
+    });
+    const auto particles = checkpoint_detail::all_of(run.comm().comm(), mine);
+    const auto all_springs = checkpoint_detail::all_of(run.comm().comm(), springs);
+
+    std::vector<const checkpoint_detail::Particle*> by_id(particles.size(), nullptr);
+    for (const auto& q : particles) by_id.at(q.r.id) = &q;
+    Sim whole(local.law(), run.box());
+    auto& w = whole.particles();
+    for (const auto* q : by_id) {
+        Vec<dim> x;
+        for (int a = 0; a < dim; ++a) x[a] = q->r.x[a];
+        const std::size_t i = w.add(x, q->r.radius, q->r.mass, q->r.inertia);
+        for (int a = 0; a < dim; ++a) w.velocity()[i][a] = q->r.v[a];
+        w.template get<field::AngularVelocity>()[i] = angular_of_record<dim>(q->r.w);
+    }
+    whole.set_time_step(run.time_step());
+    whole.set_skin(run.skin());
+    whole.set_auto_sort(false);
+    whole.set_track_energy(false);
+    whole.prepare();  // the lists; its forces and springs are replaced below
+    std::map<std::pair<Index, Index>, History> spring_of;
+    for (const auto& s : all_springs) spring_of.emplace(std::pair{s.a, s.b}, s.h);
+    whole.visit_pair_histories([&](Index i, Index j, History& h) {
+        const auto found = spring_of.find(i < j ? std::pair{i, j} : std::pair{j, i});
+        if (found == spring_of.end()) h = History{};
+        else h = i < j ? found->second : seen_from_partner(found->second);
+    });
+    for (std::size_t i = 0; i < by_id.size(); ++i) {
+        for (int a = 0; a < dim; ++a) w.template get<field::Force>()[i][a] = by_id[i]->force[a];
+        w.template get<field::Torque>()[i] = angular_of_record<dim>(by_id[i]->torque);
+    }
+    whole.set_clock(run.time(), run.steps_done());
+    return whole;
+}
+
+}  // namespace micromacro::mpi
