@@ -19,8 +19,8 @@ set(layer_forces 2)       # body forces act on particles
 set(layer_averaging 1)    # a frozen snapshot: it needs the core only
 set(layer_engine 3)       # the simulation and what runs one (snapshots of it, probes)
 set(layer_io 4)
-set(layer_mpi 4)       # domain decomposition over MPI ranks (optional, needs MPI)
-set(layer_umbrella 5)
+set(layer_mpi 5)       # domain decomposition over MPI ranks (optional, needs MPI), its output through io/
+set(layer_umbrella 6)
 
 function(folder_of path out)  # micromacro/<folder>/x.hpp -> folder; micromacro/x.hpp -> umbrella
   string(REGEX MATCH "^micromacro/([^/]+)/" match "${path}")

@@ -10,7 +10,9 @@
 //                  with cell data normal_force, tangential_force, overlap, sliding;
 //   walls.vtp      one quad (3D) or line (2D) per wall spanning the box, with its force;
 //   *.pvd          a collection with the simulated time of every file, so ParaView opens the
-//                  series at once.
+//                  series at once;
+//   *.pvtp         the summary of a data set written in pieces (one per MPI rank), which
+//                  ParaView opens as one.
 // Files are VTK XML, binary, compressed, appended; each is written to a temporary name and
 // renamed, so a reader never sees half a file. A missing or unwritable directory is an error.
 #include <filesystem>
@@ -21,6 +23,7 @@
 
 #include <vtkCellArray.h>
 #include <vtkCellData.h>
+#include <vtkDataArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
@@ -31,6 +34,7 @@
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkSmartPointer.h>
+#include <vtkType.h>
 #include <vtkXMLPolyDataWriter.h>
 
 #include "micromacro/averaging/snapshot.hpp"
@@ -143,8 +147,9 @@ ParticleFrame<Sim::dimension> particle_frame(const Sim& sim) {
     return f;
 }
 
+/// The particle file's data set of a frame.
 template <int dim>
-void write_particles(const ParticleFrame<dim>& f, const std::filesystem::path& path) {
+vtkSmartPointer<vtkPolyData> particle_data(const ParticleFrame<dim>& f) {
     const auto n = static_cast<vtkIdType>(f.position.size());
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
@@ -194,7 +199,46 @@ void write_particles(const ParticleFrame<dim>& f, const std::filesystem::path& p
         a->SetValue(0, value);
         data->GetFieldData()->AddArray(a);
     }
-    detail::write_polydata(data, path);
+    return data;
+}
+
+template <int dim>
+void write_particles(const ParticleFrame<dim>& f, const std::filesystem::path& path) {
+    detail::write_polydata(particle_data(f), path);
+}
+
+/// The summary file (.pvtp) of a data set written in pieces, one file per piece (`pieces`,
+/// named relative to the summary's folder), each with the point arrays of `piece`: ParaView
+/// opens the summary as one data set. Written atomically, like every file here.
+inline void write_piece_summary(vtkPolyData* piece, const std::vector<std::string>& pieces, const std::filesystem::path& path) {
+    detail::check_directory(path);
+    auto type = [](vtkDataArray* a) -> std::string {
+        switch (a->GetDataType()) {
+            case VTK_DOUBLE: return "type=\"Float64\"";
+            case VTK_FLOAT: return "type=\"Float32\"";
+            case VTK_INT: return "type=\"Int32\"";
+            case VTK_ID_TYPE: return sizeof(vtkIdType) == 8 ? "type=\"Int64\" IdType=\"1\"" : "type=\"Int32\" IdType=\"1\"";
+            default:
+                micromacro::detail::throw_input_error("write_piece_summary: the array ", a->GetName(), " has VTK type ",
+                                                      a->GetDataTypeAsString(), ", which the summary cannot name");
+        }
+    };
+    detail::write_whole_file(path, std::ios::out, [&](std::ofstream& out) {
+        out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
+            << "  <PPolyData GhostLevel=\"0\">\n    <PPointData";
+        auto* pd = piece->GetPointData();
+        if (pd->GetScalars()) out << " Scalars=\"" << pd->GetScalars()->GetName() << "\"";
+        out << ">\n";
+        for (int k = 0; k < pd->GetNumberOfArrays(); ++k) {
+            vtkDataArray* a = pd->GetArray(k);
+            out << "      <PDataArray " << type(a) << " Name=\"" << a->GetName() << "\" NumberOfComponents=\""
+                << a->GetNumberOfComponents() << "\"/>\n";
+        }
+        out << "    </PPointData>\n    <PPoints>\n      <PDataArray " << type(piece->GetPoints()->GetData())
+            << " Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
+        for (const auto& file : pieces) out << "    <Piece Source=\"" << file << "\"/>\n";
+        out << "  </PPolyData>\n</VTKFile>\n";
+    });
 }
 
 /// The force network: a line per contact.
