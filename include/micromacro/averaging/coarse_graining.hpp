@@ -157,10 +157,13 @@ void spread(const Grid<dim>& g, const Domain<dim>& domain, const Kernel& kernel,
 }  // namespace detail
 
 /// Coarse-grained fields of the packing on `grid` (sources outside the grid's reach are an
-/// error; periodic axes wrap).
+/// error; periodic axes wrap), from the particles and contacts of `share` (null: all), with the
+/// rattlers given (one flag per particle; they matter where opt.exclude_rattlers): a process's
+/// part of a packing split over processes, whose fields add up to the whole's.
 template <int dim, CoarseGrainingKernel Kernel>
 CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<dim>& grid, const Kernel& kernel,
-                                      const AveragingOptions& opt = {}) {
+                                      const AveragingOptions& opt, const std::vector<char>& rattler,
+                                      const AveragingShare* share) {
     detail::require_positive(kernel.support(), "kernel support", "give the width in m (about one particle diameter)");
     CoarseGrainedFields<dim> out;
     out.grid = grid;
@@ -170,16 +173,16 @@ CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<
     std::vector<std::pair<std::size_t, double>> scratch;
 
     for (std::size_t p = 0; p < s.size(); ++p)
-        detail::spread(grid, s.domain, kernel, detail::wrapped(s, s.position[p]),
-                       [&](std::size_t x, double w) { out.volume_fraction[x] += w / dV * DimTraits<dim>::particle_volume(s.radius[p]); },
-                       scratch);
+        if (!share || share->particle[p])
+            detail::spread(grid, s.domain, kernel, detail::wrapped(s, s.position[p]),
+                           [&](std::size_t x, double w) { out.volume_fraction[x] += w / dV * DimTraits<dim>::particle_volume(s.radius[p]); },
+                           scratch);
 
     // Every contact counts (weight 1 or its partners' shares): the box around the whole packing.
     std::vector<ContactSums<dim>> sums(n);
-    const ContactWeights<dim> cw = contact_weights(s, Region<dim>::whole(s), opt);
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
-        if (!cw.counted[q]) continue;
         const auto& c = s.contacts[q];
+        if ((share && !share->contact[q]) || (opt.exclude_rattlers && (rattler[c.i] || (!c.wall && rattler[c.j])))) continue;
         const bool tangential_stiffness = !(opt.exclude_sliding_from_tangential_stiffness && c.sliding);
         auto add = [&](const Vec<dim>& at, double share, double volume_share) {
             detail::spread(grid, s.domain, kernel, detail::wrapped(s, at), [&](std::size_t x, double w) {
@@ -209,6 +212,12 @@ CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<
         out.stiffness_tangential.push_back(x.stiffness_tangential);
     }
     return out;
+}
+
+template <int dim, CoarseGrainingKernel Kernel>
+CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<dim>& grid, const Kernel& kernel,
+                                      const AveragingOptions& opt = {}) {
+    return coarse_grain(s, grid, kernel, opt, detail::find_rattlers(s), nullptr);
 }
 
 }  // namespace micromacro

@@ -1,7 +1,7 @@
 #pragma once
-// The micro-macro averages of a scene run over MPI ranks (DistributedRun): each rank adds its own
-// particles and the contacts it is the one to count, and the sums are added over the ranks
-// before the tensors are derived (micro_macro.hpp's average_sums and finish_average), so the
+// The micro-macro averages and coarse-grained fields of a scene run over MPI ranks
+// (DistributedRun): each rank adds its own particles and the contacts it is the one to count,
+// and the sums are added over the ranks before the tensors are derived (micro_macro.hpp's average_sums and finish_average), so the
 // region, the selection rules and the options are the serial ones. A contact is counted by the
 // rank that owns its partner of smaller global id; that rank holds the other partner too (as a
 // ghost if another rank owns it), since the halo reaches past the contact distance. Rattlers
@@ -15,6 +15,7 @@
 
 #include <mpi.h>
 
+#include "micromacro/averaging/coarse_graining.hpp"
 #include "micromacro/averaging/micro_macro.hpp"
 #include "micromacro/averaging/region.hpp"
 #include "micromacro/engine/snapshot.hpp"
@@ -100,6 +101,35 @@ MicroMacro<Sim::dimension> average(DistributedRun<Sim>& run, const Region<Sim::d
     std::size_t k = 0;
     sums.for_each_number([&](double& x) { x = numbers[k++]; });
     return finish_average(sums, region.volume());
+}
+
+/// The coarse-grained fields of the whole scene a DistributedRun steps on `grid`, the same on
+/// every rank (a collective call): each rank spreads its own particles and the contacts it
+/// counts, and the grids are added over the ranks (every rank holds the whole grid).
+template <class Sim, CoarseGrainingKernel Kernel>
+CoarseGrainedFields<Sim::dimension> coarse_grain(DistributedRun<Sim>& run, const Grid<Sim::dimension>& grid, const Kernel& kernel,
+                                                 const AveragingOptions& opt = {}) {
+    constexpr int dim = Sim::dimension;
+    run.refresh_ghosts();
+    const auto s = averaging_detail::local_snapshot(run);
+    const AveragingShare share = averaging_detail::share_of(run, s);
+    CoarseGrainedFields<dim> f = micromacro::coarse_grain(s, grid, kernel, opt, averaging_detail::rattlers(run, s), &share);
+    auto each = [&](auto&& visit) {
+        for (double& x : f.volume_fraction) visit(x);
+        for (auto* field : {&f.fabric, &f.stress_normal, &f.stress_tangential})
+            for (auto& t : *field)
+                for (int k = 0; k < dim * dim; ++k) visit(t.data()[k]);
+        for (auto* field : {&f.stiffness_normal, &f.stiffness_tangential})
+            for (auto& t : *field)
+                for (int k = 0; k < dim * dim * dim * dim; ++k) visit(t.data()[k]);
+    };
+    std::vector<double> numbers;
+    each([&](double& x) { numbers.push_back(x); });
+    check(MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM, run.comm().comm()),
+          "MPI_Allreduce (coarse-grained fields)");
+    std::size_t k = 0;
+    each([&](double& x) { x = numbers[k++]; });
+    return f;
 }
 
 }  // namespace micromacro::mpi
