@@ -78,6 +78,7 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     for (const auto* q : by_id) {
         Vec<dim> x;
         for (int a = 0; a < dim; ++a) x[a] = q->r.x[a];
+        run.box().wrap(x);  // a rank's particle may have crossed the box's end since its last redistribution
         const std::size_t i = w.add(x, q->r.radius, q->r.mass, q->r.inertia);
         for (int a = 0; a < dim; ++a) w.velocity()[i][a] = q->r.v[a];
         w.template get<field::AngularVelocity>()[i] = angular_of_record<dim>(q->r.w);
