@@ -106,6 +106,18 @@ struct CoarseGrainedFields {
     std::vector<double> volume_fraction;
     std::vector<Tensor2<dim>> fabric, stress_normal, stress_tangential;
     std::vector<Tensor4<dim>> stiffness_normal, stiffness_tangential;
+
+    /// Every number of every field, in one order, for a sum over processes.
+    template <class F>
+    void for_each_number(F&& f) {
+        for (double& x : volume_fraction) f(x);
+        for (auto* field : {&fabric, &stress_normal, &stress_tangential})
+            for (auto& t : *field)
+                for (int k = 0; k < dim * dim; ++k) f(t.data()[k]);
+        for (auto* field : {&stiffness_normal, &stiffness_tangential})
+            for (auto& t : *field)
+                for (int k = 0; k < dim * dim * dim * dim; ++k) f(t.data()[k]);
+    }
 };
 
 namespace detail {
@@ -157,12 +169,12 @@ void spread(const Grid<dim>& g, const Domain<dim>& domain, const Kernel& kernel,
 }  // namespace detail
 
 /// Coarse-grained fields of the packing on `grid` (sources outside the grid's reach are an
-/// error; periodic axes wrap), from the particles and contacts of `share` (null: all), with the
-/// rattlers given (one flag per particle; they matter where opt.exclude_rattlers): a process's
-/// part of a packing split over processes, whose fields add up to the whole's.
+/// error; periodic axes wrap), from the particles and contacts of `share` (null: all), the
+/// contacts counted as `cw` counts them (contact_weights; every counted contact enters whole):
+/// a process's part of a packing split over processes, whose fields add up to the whole's.
 template <int dim, CoarseGrainingKernel Kernel>
 CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<dim>& grid, const Kernel& kernel,
-                                      const AveragingOptions& opt, const std::vector<char>& rattler,
+                                      const AveragingOptions& opt, const ContactWeights<dim>& cw,
                                       const AveragingShare* share) {
     detail::require_positive(kernel.support(), "kernel support", "give the width in m (about one particle diameter)");
     CoarseGrainedFields<dim> out;
@@ -182,7 +194,7 @@ CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<
     std::vector<ContactSums<dim>> sums(n);
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
         const auto& c = s.contacts[q];
-        if ((share && !share->contact[q]) || (opt.exclude_rattlers && (rattler[c.i] || (!c.wall && rattler[c.j])))) continue;
+        if (!cw.counted[q] || (share && !share->contact[q])) continue;
         const bool tangential_stiffness = !(opt.exclude_sliding_from_tangential_stiffness && c.sliding);
         auto add = [&](const Vec<dim>& at, double share, double volume_share) {
             detail::spread(grid, s.domain, kernel, detail::wrapped(s, at), [&](std::size_t x, double w) {
@@ -217,7 +229,7 @@ CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<
 template <int dim, CoarseGrainingKernel Kernel>
 CoarseGrainedFields<dim> coarse_grain(const PackingSnapshot<dim>& s, const Grid<dim>& grid, const Kernel& kernel,
                                       const AveragingOptions& opt = {}) {
-    return coarse_grain(s, grid, kernel, opt, detail::find_rattlers(s), nullptr);
+    return coarse_grain(s, grid, kernel, opt, contact_weights(s, Region<dim>::whole(s), opt), nullptr);
 }
 
 }  // namespace micromacro

@@ -82,6 +82,15 @@ std::vector<char> rattlers(const DistributedRun<Sim>& run, const PackingSnapshot
         if (!anywhere) return rattler;
     }
 }
+/// Adds `sums` over the ranks of `comm`, number by number (its for_each_number), on every rank.
+template <class Sums>
+void add_over_ranks(Sums& sums, MPI_Comm comm, const char* what) {
+    std::vector<double> numbers;
+    sums.for_each_number([&](double& x) { numbers.push_back(x); });
+    check(MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM, comm), what);
+    std::size_t k = 0;
+    sums.for_each_number([&](double& x) { x = numbers[k++]; });
+}
 }  // namespace averaging_detail
 
 /// The average over `region` of the whole scene a DistributedRun steps, the same on every rank
@@ -94,12 +103,7 @@ MicroMacro<Sim::dimension> average(DistributedRun<Sim>& run, const Region<Sim::d
     const AveragingShare share = averaging_detail::share_of(run, s);
     const auto weights = contact_weights(s, region, opt, averaging_detail::rattlers(run, s));
     AverageSums<Sim::dimension> sums = average_sums(s, region, opt, weights, &share);
-    std::vector<double> numbers;
-    sums.for_each_number([&](double& x) { numbers.push_back(x); });
-    check(MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM, run.comm().comm()),
-          "MPI_Allreduce (averages)");
-    std::size_t k = 0;
-    sums.for_each_number([&](double& x) { x = numbers[k++]; });
+    averaging_detail::add_over_ranks(sums, run.comm().comm(), "MPI_Allreduce (averages)");
     return finish_average(sums, region.volume());
 }
 
@@ -113,22 +117,9 @@ CoarseGrainedFields<Sim::dimension> coarse_grain(DistributedRun<Sim>& run, const
     run.refresh_ghosts();
     const auto s = averaging_detail::local_snapshot(run);
     const AveragingShare share = averaging_detail::share_of(run, s);
-    CoarseGrainedFields<dim> f = micromacro::coarse_grain(s, grid, kernel, opt, averaging_detail::rattlers(run, s), &share);
-    auto each = [&](auto&& visit) {
-        for (double& x : f.volume_fraction) visit(x);
-        for (auto* field : {&f.fabric, &f.stress_normal, &f.stress_tangential})
-            for (auto& t : *field)
-                for (int k = 0; k < dim * dim; ++k) visit(t.data()[k]);
-        for (auto* field : {&f.stiffness_normal, &f.stiffness_tangential})
-            for (auto& t : *field)
-                for (int k = 0; k < dim * dim * dim * dim; ++k) visit(t.data()[k]);
-    };
-    std::vector<double> numbers;
-    each([&](double& x) { numbers.push_back(x); });
-    check(MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM, run.comm().comm()),
-          "MPI_Allreduce (coarse-grained fields)");
-    std::size_t k = 0;
-    each([&](double& x) { x = numbers[k++]; });
+    const auto weights = contact_weights(s, Region<dim>::whole(s), opt, averaging_detail::rattlers(run, s));
+    CoarseGrainedFields<dim> f = micromacro::coarse_grain(s, grid, kernel, opt, weights, &share);
+    averaging_detail::add_over_ranks(f, run.comm().comm(), "MPI_Allreduce (coarse-grained fields)");
     return f;
 }
 
