@@ -58,15 +58,10 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
         mine.push_back({record_of(p, i, run.global_id(i)), record_vector<dim>(convert<double>(p.force()[i])),
                         record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]))});
     // Each pair's spring once: from the rank that owns its partner of smaller global id.
-    struct Spring {
-        Index a, b;
-        History h;  // as a sees it
-    };
-    std::vector<Spring> springs;
+    std::vector<PairSpring<History>> springs;
     local.visit_pair_histories([&](Index i, Index j, const History& h) {
         const Index a = run.global_id(i), b = run.global_id(j);
-        if ((a < b ? i : j) >= run.owned()) return;
-        springs.push_back(a < b ? Spring{a, b, h} : Spring{b, a, seen_from_partner(h)});
+        if ((a < b ? i : j) < run.owned()) springs.push_back(PairSpring<History>::of(a, b, h));
     });
     const auto particles = checkpoint_detail::all_of(run.comm().comm(), mine);
     const auto all_springs = checkpoint_detail::all_of(run.comm().comm(), springs);
@@ -88,13 +83,9 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     whole.set_auto_sort(false);
     whole.set_track_energy(false);
     whole.prepare();  // the lists; its forces and springs are replaced below
-    std::map<std::pair<Index, Index>, History> spring_of;
+    SpringsByPair<History> spring_of;
     for (const auto& s : all_springs) spring_of.emplace(std::pair{s.a, s.b}, s.h);
-    whole.visit_pair_histories([&](Index i, Index j, History& h) {
-        const auto found = spring_of.find(i < j ? std::pair{i, j} : std::pair{j, i});
-        if (found == spring_of.end()) h = History{};
-        else h = i < j ? found->second : seen_from_partner(found->second);
-    });
+    restore_springs(whole, spring_of, [](Index i) { return i; });  // indices are the global ids
     for (std::size_t i = 0; i < by_id.size(); ++i) {
         for (int a = 0; a < dim; ++a) w.template get<field::Force>()[i][a] = by_id[i]->force[a];
         w.template get<field::Torque>()[i] = angular_of_record<dim>(by_id[i]->torque);

@@ -37,6 +37,32 @@
 
 namespace micromacro::mpi {
 
+/// A pair's spring by the pair's global ids (a < b), as a sees it: how springs travel between
+/// ranks and into a gathered scene (mpi/checkpoint.hpp).
+template <class History>
+struct PairSpring {
+    Index a, b;
+    History h;
+    /// The spring of a pair whose particles have global ids `first` and `second`, as `first` sees it.
+    static PairSpring of(Index first, Index second, const History& h) {
+        return first < second ? PairSpring{first, second, h} : PairSpring{second, first, seen_from_partner(h)};
+    }
+};
+template <class History>
+using SpringsByPair = std::map<std::pair<Index, Index>, History>;
+
+/// Every candidate pair's spring of `sim` from `springs`, its particles' global ids given by
+/// `global_id(i)`; a pair without one starts anew.
+template <class Sim, class GlobalId>
+void restore_springs(Sim& sim, const SpringsByPair<typename Sim::History>& springs, GlobalId&& global_id) {
+    sim.visit_pair_histories([&](Index i, Index j, typename Sim::History& h) {
+        const Index a = global_id(i), b = global_id(j);
+        const auto found = springs.find(a < b ? std::pair{a, b} : std::pair{b, a});
+        if (found == springs.end()) h = {};
+        else h = a < b ? found->second : seen_from_partner(found->second);
+    });
+}
+
 template <class Sim>
 class DistributedRun {
 public:
@@ -72,11 +98,11 @@ public:
             if (resume) s.torque = record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]));
             all.push_back(s);
         }
-        std::map<std::pair<Index, Index>, History> springs;
+        SpringsByPair<History> springs;
         if (resume)
             whole.visit_pair_histories([&](Index i, Index j, const History& h) {
-                const Index a = p.id(i), b = p.id(j);
-                springs.emplace(a < b ? std::pair{a, b} : std::pair{b, a}, a < b ? h : seen_from_partner(h));
+                const auto spring = PairSpring<History>::of(p.id(i), p.id(j), h);
+                springs.emplace(std::pair{spring.a, spring.b}, spring.h);
             });
         distribute(all, springs, !resume);
     }
@@ -138,15 +164,10 @@ private:
         ParticleRecord r;
         std::array<double, 3> force, torque;
     };
-    /// A pair's spring by the pair's global ids (a < b), as a sees it.
-    struct PairHistory {
-        Index a, b;
-        History h;
-    };
     /// A spring on its way with one of its particles, `carrier`.
     struct CarriedSpring {
         Index carrier;
-        PairHistory pair;
+        PairSpring<History> pair;
     };
 
     void write_motion(std::size_t i, const ParticleRecord& r) {
@@ -204,7 +225,7 @@ private:
         local_->visit_pair_histories([&](Index i, Index j, const History& h) {
             if (i >= owned_ && j >= owned_) return;  // between two ghosts: another rank's
             const Index a = global_id(i), b = global_id(j);
-            const PairHistory pair = a < b ? PairHistory{a, b, h} : PairHistory{b, a, seen_from_partner(h)};
+            const auto pair = PairSpring<History>::of(a, b, h);
             if (i < owned_) carried.push_back({a, pair});
             if (j < owned_) carried.push_back({b, pair});
         });
@@ -241,7 +262,7 @@ private:
                 carried.insert(carried.end(), arrived_springs.begin(), arrived_springs.end());
             }
         }
-        std::map<std::pair<Index, Index>, History> by_pair;
+        SpringsByPair<History> by_pair;
         for (const CarriedSpring& cs : carried) by_pair.emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);  // held twice: the first
         distribute(states, by_pair, false);
         ++redistributions_;
@@ -265,7 +286,7 @@ private:
     /// pair's spring from `springs` (the others start anew). `first`: the run's start, whose
     /// forces are computed; else mid-step, where the last forces and torques are restored for
     /// the integrator's closing kick and the forces are left to the integrator's evaluation.
-    void distribute(const std::vector<State>& all, const std::map<std::pair<Index, Index>, History>& springs, bool first) {
+    void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, bool first) {
         std::vector<ParticleRecord> owned;
         std::vector<const State*> own_states;
         for (const State& s : all) {
@@ -301,12 +322,7 @@ private:
             for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
             p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
         }
-        local_->visit_pair_histories([&](Index i, Index j, History& h) {
-            const Index a = global_id(i), b = global_id(j);
-            const auto found = springs.find(a < b ? std::pair{a, b} : std::pair{b, a});
-            if (found == springs.end()) h = History{};
-            else h = a < b ? found->second : seen_from_partner(found->second);
-        });
+        restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
     }
 
     CartesianComm<dim> comm_;
