@@ -71,9 +71,7 @@ double from_serial(const Sim& serial, const Sim& other) {
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) {
     constexpr int dim = D::value;
-    int rank = 0, ranks = 1;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    const int rank = mmtest::world_rank(), ranks = mmtest::world_size();
     auto serial = mmtest::lattice<dim>(dim == 2 ? 18 : 8, 10e-6);
     using Sim = decltype(serial);
     mm::mpi::DistributedRun first(MPI_COMM_WORLD, serial);

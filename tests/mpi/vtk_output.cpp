@@ -32,9 +32,7 @@ BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(pieces_read_back_as_the_whole_scene, D, Dims) {
     constexpr int dim = D::value;
-    int rank = 0, ranks = 1;
-    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
-    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    const int rank = mmtest::world_rank(), ranks = mmtest::world_size();
     auto serial = mmtest::lattice<dim>(dim == 2 ? 18 : 8, 10e-6);
     mm::mpi::DistributedRun run(MPI_COMM_WORLD, serial);
     serial.prepare();

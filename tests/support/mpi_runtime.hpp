@@ -7,4 +7,16 @@ struct MpiRuntime {
     MpiRuntime() { MPI_Init(nullptr, nullptr); }
     ~MpiRuntime() { MPI_Finalize(); }
 };
+
+/// This process's rank in MPI_COMM_WORLD, and how many ranks it has.
+inline int world_rank() {
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
+    return rank;
+}
+inline int world_size() {
+    int ranks = 1;
+    MPI_Comm_size(MPI_COMM_WORLD, &ranks);
+    return ranks;
+}
 }  // namespace mmtest

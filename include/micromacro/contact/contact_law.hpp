@@ -52,9 +52,10 @@ struct StiffnessBound {
 /// - with a history (`has_history`): `History<dim>` default-constructed is "not in contact";
 ///   `touched(h)`: whether the last evaluation found the contact closed; `opening_force(c, h)`:
 ///   a force to add at the evaluation that finds the contact open (zero if none); `step_back`
-///   (undo the last advance before the same instant is evaluated again), `displace(n, d, h)` (take up
-///   an imposed tangential displacement d of the contact points at a contact with normal n), and `seen_from_partner(h)` found by
-///   argument-dependent lookup (the history when the pair's two particles swap roles).
+///   (undo the last advance before the same instant is evaluated again); `displace(n, d, h)`
+///   (take up an imposed tangential displacement d of the contact points at a contact with
+///   normal n); and `seen_from_partner(h)` found by argument-dependent lookup (the history when
+///   the pair's two particles swap roles).
 /// A law and its histories are plain data (numbers and fixed-size vectors, no pointers): state
 /// files store them as bytes.
 template <class L, int dim>

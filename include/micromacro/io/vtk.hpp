@@ -105,6 +105,15 @@ struct ParticleFrame {
     /// Numbers of the whole frame (the biaxial program's eps_zz, for one), written as field data:
     /// ParaView lists them, render_snapshot prints them on the picture.
     std::vector<std::pair<std::string, double>> values;
+
+    /// Keeps the first n particles (a process's own, before the ghosts it holds).
+    void keep_first(std::size_t n) {
+        for (auto* v : {&position, &velocity, &force}) v->resize(n);
+        for (auto* v : {&radius, &potential_energy, &kinetic_energy}) v->resize(n);
+        coordination.resize(n), stress.resize(n);
+        if (!angular_velocity.empty()) angular_velocity.resize(n);
+        if (!id.empty()) id.resize(n);
+    }
 };
 
 /// The frame of a simulation at its present state.

@@ -34,9 +34,7 @@ void write_particles(DistributedRun<Sim>& run, const std::filesystem::path& path
     run.refresh_ghosts();  // the owned particles' contact forces read the ghosts' velocities
     auto frame = io::particle_frame(run.local());
     const std::size_t n = run.owned();
-    frame.position.resize(n), frame.velocity.resize(n), frame.force.resize(n), frame.radius.resize(n);
-    frame.potential_energy.resize(n), frame.kinetic_energy.resize(n), frame.coordination.resize(n), frame.stress.resize(n);
-    if (!frame.angular_velocity.empty()) frame.angular_velocity.resize(n);
+    frame.keep_first(n);
     frame.id.resize(n);
     for (std::size_t i = 0; i < n; ++i) frame.id[i] = static_cast<long long>(run.global_id(i));
     frame.values = std::move(values);
