@@ -3,7 +3,8 @@
 // (whole_scene), written to a state file and read back; from it the run goes on for 50 steps
 // over all the ranks, over rank 0 alone, and in the serial engine, and each ends where the serial
 // run of 100 steps ends, to round-off (the particles handed to new ranks on the way: a 10 um
-// skin). On one rank every copy gives the serial run's bits. In 2D and 3D.
+// skin). On one rank every copy gives the serial run's bits. In 2D and 3D, in the periodic box and
+// in the box of moving walls, whose walls and wall contacts' springs the checkpoint carries.
 #define BOOST_TEST_MODULE mpi_checkpoint
 #include <boost/test/unit_test.hpp>
 
@@ -69,11 +70,11 @@ double from_serial(const Sim& serial, const Sim& other) {
 }
 }  // namespace
 
-BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) {
-    constexpr int dim = D::value;
+template <class Sim>
+void check_restarts(Sim serial, const std::string& name) {
+    constexpr int dim = Sim::dimension;
     const int rank = mmtest::world_rank(), ranks = mmtest::world_size();
-    auto serial = mmtest::lattice<dim>(dim == 2 ? 18 : 8, 10e-6);
-    using Sim = decltype(serial);
+    serial.set_track_energy(false);  // as the distributed runs (see tests/mpi/distributed_run.cpp)
     mm::mpi::DistributedRun first(MPI_COMM_WORLD, serial);
     serial.prepare();
     first.run(50);
@@ -83,10 +84,10 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) 
 
     // Written by rank 0 and read by every rank.
     const auto file = std::filesystem::temp_directory_path() /
-                      ("micromacro_checkpoint_" + std::to_string(dim) + "d_" + std::to_string(ranks) + "_ranks.state");
+                      ("micromacro_checkpoint_" + name + std::to_string(dim) + "d_" + std::to_string(ranks) + "_ranks.state");
     if (rank == 0) mm::io::save_state(gathered, file, {}, "checkpoint");
     MPI_Barrier(MPI_COMM_WORLD);
-    Sim restored(gathered.law(), gathered.domain());
+    Sim restored = gathered;  // overwritten by the file
     mm::io::load_state(restored, file, "checkpoint");
     MPI_Barrier(MPI_COMM_WORLD);
     if (rank == 0) std::filesystem::remove(file);
@@ -108,6 +109,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) 
         on_one = from_distributed(serial, single);
         MPI_Comm_free(&alone);
         Sim continued = restored;
+        continued.set_track_energy(false);
         continued.run(50);
         in_serial = from_serial(serial, continued);
     }
@@ -123,4 +125,19 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) 
     BOOST_TEST(in_serial < round_off);
     if (ranks == 1) BOOST_TEST((on_all == 0.0 && on_one == 0.0 && in_serial == 0.0), "one rank gives the serial bits");
     BOOST_TEST(first.redistributions() + again.redistributions() > 0u);
+    if constexpr (Sim::has_walls) {  // the walls where the serial run's are
+        double dh = 0.0;
+        for (std::size_t k = 0; k < serial.walls().size(); ++k)
+            dh = std::max(dh, std::abs(again.local().walls()[k].offset - serial.walls()[k].offset) / 1e-3);
+        BOOST_TEST(dh < round_off, "walls off by " << dh << " of a radius");
+        BOOST_TEST(std::abs(serial.walls()[2 * dim - 1].offset - serial.walls()[2 * dim - 1].initial_offset) > 1e-6);
+    }
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) {
+    check_restarts(mmtest::lattice<D::value>(D::value == 2 ? 18 : 8, 10e-6), "periodic_");
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_of_a_box_of_walls_restarts_on_any_rank_count, D, Dims) {
+    check_restarts(mmtest::walled_lattice<D::value>(D::value == 2 ? 19 : 7, 10e-6, true), "walls_");
 }

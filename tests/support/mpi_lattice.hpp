@@ -1,6 +1,6 @@
 #pragma once
-// The MPI tests' scene: a dense frictional periodic packing on a jittered lattice, the same on
-// every rank.
+// The MPI tests' scenes: a dense frictional periodic packing on a jittered lattice, the same on
+// every rank, and the lattice in a box of moving walls.
 #include <random>
 
 #include <micromacro/micromacro.hpp>
@@ -17,11 +17,9 @@ namespace mmtest {
 // `holes`: the fraction of particles given a radius of 0.9 mm instead, out of contact with
 // their neighbours, so that some of those around them have too few contacts left (rattlers);
 // `spacing` closer than 1.99 mm presses every neighbour pair together.
-template <int dim>
-auto lattice(int per_side, double skin, double holes = 0.0, double spacing = 1.99e-3) {
+template <int dim, class Sim>
+void fill_lattice(Sim& sim, int per_side, double skin, double holes, double spacing) {
     const double L = per_side * spacing;
-    const mm::FrictionalLinear law{mm::LinearSpringDashpot(mmtest::k, mmtest::gamma0), mm::CundallStrack(0.2 * mmtest::k, 0.02, 0.5)};
-    mm::BasicSimulation<dim, double, mm::FrictionalLinear> sim(law, mmtest::periodic_box<dim>(L));
     std::mt19937_64 rng(23);
     std::uniform_real_distribution<double> U(-1.0, 1.0);
     std::normal_distribution<double> N(0.0, 1.0);
@@ -45,6 +43,42 @@ auto lattice(int per_side, double skin, double holes = 0.0, double spacing = 1.9
     sim.set_time_step(mm::contact_duration(mmtest::k, mmtest::gamma0, mm::sphere_mass(mmtest::rho, 0.995e-3) / 2) / 50);
     sim.set_skin(skin);
     sim.set_auto_sort(false);
+}
+
+inline const mm::FrictionalLinear lattice_law{mm::LinearSpringDashpot(mmtest::k, mmtest::gamma0),
+                                              mm::CundallStrack(0.2 * mmtest::k, 0.02, 0.5)};
+
+template <int dim>
+auto lattice(int per_side, double skin, double holes = 0.0, double spacing = 1.99e-3) {
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> sim(lattice_law, mmtest::periodic_box<dim>(per_side * spacing));
+    fill_lattice<dim>(sim, per_side, skin, holes, spacing);
+    return sim;
+}
+
+// The lattice in a box of walls instead (no periodic axis, an unbounded domain), the outer rows
+// pressed 10 um into the walls: along the last axis the upper wall moves in by 20 um over the
+// first 200 steps (Eq. 17), along the first axis the upper wall is stress-controlled (Eq. 18) at
+// about the pressure of the rows pressed into it, so that it moves; the others are fixed. The
+// walls are frictional (the scene's law), so that wall contacts hold springs too. `bounded`: the
+// domain (open on every axis) spans the outer rows' centres, so that the rows sit on the
+// boundaries between slabs and the outer ones half outside; else it is unbounded, as the biaxial
+// test's.
+template <int dim>
+auto walled_lattice(int per_side, double skin, bool bounded) {
+    const double spacing = 1.99e-3, press = 10e-6, lo = -1e-3 + press, hi = (per_side - 1) * spacing + 1e-3 - press;
+    mm::Walls<dim> walls;
+    walls.add_box(mm::Vec<dim>::Constant(lo), mm::Vec<dim>::Constant(hi));
+    const mm::Domain<dim> domain =
+        bounded ? mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant((per_side - 1) * spacing), {}) : mm::Domain<dim>();
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear, mm::Walls<dim>> sim(lattice_law, domain, walls);
+    fill_lattice<dim>(sim, per_side, skin, 0.0, spacing);
+    for (auto& x : sim.particles().position())  // the periodic lattice's wrapped jitter back next to its row
+        for (int a = 0; a < dim; ++a)
+            if (x[a] > hi - 0.5e-3) x[a] -= per_side * spacing;
+    const double dt = sim.time_step(), m = mm::sphere_mass(mmtest::rho, 1e-3);
+    sim.walls()[2 * dim - 1].motion = mm::StrainControlled{20e-6, 400 * dt};
+    const double side = hi - lo, area = dim == 2 ? side : side * side;
+    sim.walls()[1].motion = mm::StressControlled{mmtest::k * press * per_side / area * (dim == 2 ? 1 : per_side), 20 * m, 0.0};
     return sim;
 }
 

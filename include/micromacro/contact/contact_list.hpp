@@ -29,6 +29,15 @@ public:
     History& history(std::size_t c) requires has_history { return history_[c]; }
     const History& history(std::size_t c) const requires has_history { return history_[c]; }
     History* history_data() requires has_history { return history_.data(); }
+    /// Calls f(i, j, history) for every pair.
+    template <class F>
+    void visit(F& f) requires has_history {
+        for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_[c].i, pairs_[c].j, history_[c]);
+    }
+    template <class F>
+    void visit(F& f) const requires has_history {
+        for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_[c].i, pairs_[c].j, history_[c]);
+    }
 
     /// Replaces the pairs by the sorted list in scratch(), keeping the history of every pair
     /// present in both lists.

@@ -162,7 +162,8 @@ public:
     /// How often the particles were sorted, by sort_spatially or on the engine's own.
     std::size_t spatial_sorts() const { return sorts_; }
     /// Particles from index `first` on are ghosts, copies of particles another process computes
-    /// (mpi::DistributedRun): the lists leave out pairs of two ghosts. Default: none.
+    /// (mpi::DistributedRun): the lists leave out pairs of two ghosts and a ghost's wall contacts
+    /// (their forces are the owners'). Default: none.
     void set_first_ghost(std::size_t first) { first_ghost_ = first; }
 
     /// The spacing of representable coordinates at the farthest particle or wall from the origin
@@ -235,16 +236,13 @@ public:
         const auto [walls, wall_contacts] = wall_parts();
         detail::visit_contacts<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, f);
     }
-    /// Calls f(i, j, history) for every candidate pair (i < j) of the list, the history as the last
-    /// evaluation left it and open to change: how a distributed run hands springs between ranks.
-    template <class F>
-    void visit_pair_histories(F&& f) requires Law::has_history {
-        for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_.pairs()[c].i, pairs_.pairs()[c].j, pairs_.history(c));
-    }
-    template <class F>
-    void visit_pair_histories(F&& f) const requires Law::has_history {
-        for (std::size_t c = 0; c < pairs_.size(); ++c) f(pairs_.pairs()[c].i, pairs_.pairs()[c].j, pairs_.history(c));
-    }
+    /// Calls f(i, j, history) for every candidate pair (i < j) of the list, and f(i, wall, history)
+    /// for every candidate wall contact, the history as the last evaluation left it and open to
+    /// change: how a distributed run hands springs between ranks.
+    template <class F> void visit_pair_histories(F&& f) requires Law::has_history { pairs_.visit(f); }
+    template <class F> void visit_pair_histories(F&& f) const requires Law::has_history { pairs_.visit(f); }
+    template <class F> void visit_wall_histories(F&& f) requires(Law::has_history && has_walls) { wall_contacts_.visit(f); }
+    template <class F> void visit_wall_histories(F&& f) const requires(Law::has_history && has_walls) { wall_contacts_.visit(f); }
 
     /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes),
     /// a periodic box (diagonal F only), and every tangential spring, which takes up the

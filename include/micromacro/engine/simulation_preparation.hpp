@@ -180,6 +180,9 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         auto& wn = wall_contacts_.scratch();
         wn.clear();
         detail::find_wall_candidates(x, r, walls_, skin_, wn);
+        if (first_ghost_ < particles_.size())  // a ghost's wall contact is its owner's
+            wn.erase(std::remove_if(wn.begin(), wn.end(), [g = static_cast<Index>(first_ghost_)](const IndexPair& p) { return p.i >= g; }),
+                     wn.end());
         wall_contacts_.commit_scratch();
         wall_reference_.resize(walls_.size());
         for (std::size_t w = 0; w < walls_.size(); ++w) wall_reference_[w] = walls_[w].offset;

@@ -1,6 +1,7 @@
 #pragma once
 // Checkpoints of a scene run over MPI ranks: whole_scene() gathers the ranks' particles, their
-// last forces and torques and every pair's spring into one serial scene on every rank, the
+// last forces and torques, every pair's and wall contact's spring and the walls into one serial
+// scene on every rank, the
 // state the serial engine would hold. io::save_state writes it like any scene; loaded again, it
 // continues serially, or over any number of ranks through DistributedRun's Start::resume. So a
 // checkpoint restarts on another rank count and on one process. Every rank then holds the whole
@@ -45,7 +46,8 @@ std::vector<T> all_of(MPI_Comm comm, const std::vector<T>& mine) {
 /// The whole scene of `run` as one serial scene, the same on every rank (a collective call):
 /// particles numbered by their global ids (the numbering of the scene the run started from),
 /// their positions (in the box), velocities, angular velocities and the last forces and torques,
-/// each pair's spring, the run's clock, time step and skin. Energy books are off (a distributed
+/// each pair's and wall contact's spring, the walls (every rank's copy is the same), the run's
+/// clock, time step and skin. Energy books are off (a distributed
 /// run keeps none) and so is the engine's own sorting, so that indices stay the global ids.
 template <class Sim>
 Sim whole_scene(const DistributedRun<Sim>& run) {
@@ -63,12 +65,20 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
         const Index a = run.global_id(i), b = run.global_id(j);
         if ((a < b ? i : j) < run.owned()) springs.push_back(PairSpring<History>::of(a, b, h));
     });
+    // Each wall contact's spring from its particle's rank.
+    std::vector<PairSpring<History>> wall_springs;
+    if constexpr (Sim::has_walls)
+        local.visit_wall_histories([&](Index i, Index w, const History& h) { wall_springs.push_back({run.global_id(i), w, h}); });
     const auto particles = checkpoint_detail::all_of(run.comm().comm(), mine);
     const auto all_springs = checkpoint_detail::all_of(run.comm().comm(), springs);
+    const auto all_wall_springs = checkpoint_detail::all_of(run.comm().comm(), wall_springs);
 
     std::vector<const checkpoint_detail::Particle*> by_id(particles.size(), nullptr);
     for (const auto& q : particles) by_id.at(q.r.id) = &q;
-    Sim whole(local.law(), run.box());
+    Sim whole = [&] {
+        if constexpr (Sim::has_walls) return Sim(local.law(), run.box(), local.walls());
+        else return Sim(local.law(), run.box());
+    }();
     auto& w = whole.particles();
     for (const auto* q : by_id) {
         Vec<dim> x;
@@ -86,6 +96,15 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     SpringsByPair<History> spring_of;
     for (const auto& s : all_springs) spring_of.emplace(std::pair{s.a, s.b}, s.h);
     restore_springs(whole, spring_of, [](Index i) { return i; });  // indices are the global ids
+    if constexpr (Sim::has_walls) {
+        SpringsByPair<History> wall_spring_of;
+        for (const auto& s : all_wall_springs) wall_spring_of.emplace(std::pair{s.a, s.b}, s.h);
+        whole.visit_wall_histories([&](Index i, Index w, History& h) {
+            const auto found = wall_spring_of.find(std::pair{i, w});
+            h = found == wall_spring_of.end() ? History{} : found->second;
+        });
+        for (std::size_t k = 0; k < whole.walls().size(); ++k) whole.walls()[k].force = local.walls()[k].force;  // the last evaluation's, as the forces
+    }
     for (std::size_t i = 0; i < by_id.size(); ++i) {
         for (int a = 0; a < dim; ++a) w.template get<field::Force>()[i][a] = by_id[i]->force[a];
         w.template get<field::Torque>()[i] = angular_of_record<dim>(by_id[i]->torque);

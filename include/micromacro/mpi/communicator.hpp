@@ -32,6 +32,7 @@ public:
     CartesianComm(MPI_Comm parent, const Domain<dim>& box, std::array<int, dim> dims = {}) {
         int size = 0;
         check(MPI_Comm_size(parent, &size), "MPI_Comm_size");
+        size_ = size;
         check(MPI_Dims_create(size, dim, dims.data()), "MPI_Dims_create");
         std::array<int, dim> periods{};
         for (int a = 0; a < dim; ++a) periods[a] = box.periodic(a) ? 1 : 0;
@@ -49,6 +50,7 @@ public:
 
     MPI_Comm comm() const { return comm_; }
     int rank() const { return rank_; }
+    int size() const { return size_; }
     const CartesianSplit<dim>& split() const { return split_; }
     /// The rank across the lower (direction -1) or upper (+1) face along axis a; MPI_PROC_NULL
     /// at an open box's end. With one slab on a periodic axis, this rank itself.
@@ -56,7 +58,7 @@ public:
 
 private:
     MPI_Comm comm_ = MPI_COMM_NULL;
-    int rank_ = 0;
+    int rank_ = 0, size_ = 1;
     CartesianSplit<dim> split_{};
     std::array<int, dim> below_{}, above_{};
 };

@@ -13,8 +13,14 @@
 // pass and the forces: the particles go to the ranks that own their positions now, each with its
 // last force and torque (the integrator's closing kick needs them) and each pair's spring with
 // it, the halos are built again and each rank's engine is rebuilt on its new particles. Particles
-// go to the neighbouring ranks only, axis by axis (as in LAMMPS's Comm::exchange). Walls are not
-// supported yet.
+// go to the neighbouring ranks only, axis by axis (as in LAMMPS's Comm::exchange).
+//
+// Walls: every rank holds every wall, and a particle's wall contacts are its owner's (a ghost
+// has none). After each force evaluation the walls' forces are summed over the ranks, each
+// rank's share in rank order on every rank, so that the walls move by the same numbers
+// everywhere; a wall contact's spring travels with its particle. A box without periodic axes
+// (the biaxial test's) is split over the particles' extent at the start; particles that leave
+// it later belong to the end slabs.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -32,36 +38,12 @@
 #include "micromacro/core/error.hpp"
 #include "micromacro/engine/simulation.hpp"
 #include "micromacro/mpi/communicator.hpp"
+#include "micromacro/mpi/distributed_walls.hpp"
 #include "micromacro/mpi/halo.hpp"
+#include "micromacro/mpi/springs.hpp"
 #include "micromacro/neighbors/skin.hpp"
 
 namespace micromacro::mpi {
-
-/// A pair's spring by the pair's global ids (a < b), as a sees it: how springs travel between
-/// ranks and into a gathered scene (mpi/checkpoint.hpp).
-template <class History>
-struct PairSpring {
-    Index a, b;
-    History h;
-    /// The spring of a pair whose particles have global ids `first` and `second`, as `first` sees it.
-    static PairSpring of(Index first, Index second, const History& h) {
-        return first < second ? PairSpring{first, second, h} : PairSpring{second, first, seen_from_partner(h)};
-    }
-};
-template <class History>
-using SpringsByPair = std::map<std::pair<Index, Index>, History>;
-
-/// Every candidate pair's spring of `sim` from `springs`, its particles' global ids given by
-/// `global_id(i)`; a pair without one starts anew.
-template <class Sim, class GlobalId>
-void restore_springs(Sim& sim, const SpringsByPair<typename Sim::History>& springs, GlobalId&& global_id) {
-    sim.visit_pair_histories([&](Index i, Index j, typename Sim::History& h) {
-        const Index a = global_id(i), b = global_id(j);
-        const auto found = springs.find(a < b ? std::pair{a, b} : std::pair{b, a});
-        if (found == springs.end()) h = {};
-        else h = a < b ? found->second : seen_from_partner(found->second);
-    });
-}
 
 template <class Sim>
 class DistributedRun {
@@ -69,7 +51,7 @@ public:
     static constexpr int dim = Sim::dimension;
     using History = typename Sim::History;
     using Law = std::remove_cvref_t<decltype(std::declval<const Sim&>().law())>;
-    static_assert(!Sim::has_walls, "DistributedRun: walls across ranks are not built yet");
+    using Boundary = std::remove_cvref_t<decltype(std::declval<const Sim&>().walls())>;
     static_assert(Sim::rotation && Law::has_history,
                   "DistributedRun: needs a law with rotation and springs (the records carry angular velocities)");
 
@@ -83,8 +65,8 @@ public:
     /// ranks of `parent`. The skin is the scene's, or the engine's default (a fifth of the mean
     /// radius); the halo is the largest contact distance plus it. The clock starts at whole's.
     DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh)
-        : comm_(parent, whole.domain()), box_(whole.domain()), law_(whole.law()), skin_(whole.skin()), dt_(whole.time_step()),
-          time_(whole.time()), steps_(whole.steps_done()) {
+        : comm_(parent, split_box(whole)), box_(whole.domain()), law_(whole.law()), walls_(whole.walls()), skin_(whole.skin()),
+          dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()) {
         const auto& p = whole.particles();
         if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
         width_ = interaction_range(p.radius(), skin_);
@@ -98,13 +80,17 @@ public:
             if (resume) s.torque = record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]));
             all.push_back(s);
         }
-        SpringsByPair<History> springs;
-        if (resume)
+        SpringsByPair<History> springs, wall_springs;
+        if (resume) {
             whole.visit_pair_histories([&](Index i, Index j, const History& h) {
                 const auto spring = PairSpring<History>::of(p.id(i), p.id(j), h);
                 springs.emplace(std::pair{spring.a, spring.b}, spring.h);
             });
-        distribute(all, springs, !resume);
+            if constexpr (Sim::has_walls)
+                whole.visit_wall_histories([&](Index i, Index w, const History& h) { wall_springs.emplace(std::pair{p.id(i), w}, h); });
+        }
+        distribute(all, springs, wall_springs, resume ? Stage::resume : Stage::fresh);
+        if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());
     }
 
     const CartesianComm<dim>& comm() const { return comm_; }
@@ -143,7 +129,10 @@ public:
         ++steps_;
         refresh_or_redistribute();
     }
-    void compute_forces() { local_->compute_forces(); }
+    void compute_forces() {
+        local_->compute_forces();
+        if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+    }
     void kick_force_change(double h) {
         local_->kick_force_change(h);
         ghosts_current_ = false;
@@ -164,11 +153,16 @@ private:
         ParticleRecord r;
         std::array<double, 3> force, torque;
     };
-    /// A spring on its way with one of its particles, `carrier`.
+    /// A spring on its way with one of its particles, `carrier`: a pair's (by global ids), or a
+    /// wall contact's (a: the particle's global id, b: the wall).
     struct CarriedSpring {
         Index carrier;
+        bool wall;
         PairSpring<History> pair;
     };
+    /// How distribute() starts a rank's engine: at the run's start (fresh or resumed) or within
+    /// a step.
+    enum class Stage { fresh, resume, within_step };
 
     void write_motion(std::size_t i, const ParticleRecord& r) {
         auto& p = local_->particles();
@@ -226,9 +220,15 @@ private:
             if (i >= owned_ && j >= owned_) return;  // between two ghosts: another rank's
             const Index a = global_id(i), b = global_id(j);
             const auto pair = PairSpring<History>::of(a, b, h);
-            if (i < owned_) carried.push_back({a, pair});
-            if (j < owned_) carried.push_back({b, pair});
+            if (i < owned_) carried.push_back({a, false, pair});
+            if (j < owned_) carried.push_back({b, false, pair});
         });
+        if constexpr (Sim::has_walls) {  // every wall contact is an owned particle's
+            local_->visit_wall_histories([&](Index i, Index w, const History& h) {
+                carried.push_back({global_id(i), true, {global_id(i), w, h}});
+            });
+            walls_ = local_->walls();
+        }
         for (int a = 0; a < dim; ++a) {
             if (split.dims[a] == 1) continue;
             // Down (0) or up (1) one slab, across the box's end on a periodic axis; or staying.
@@ -242,7 +242,10 @@ private:
                     staying.push_back(st);
                     continue;
                 }
-                const int up = c == (split.coords[a] + 1) % split.dims[a] ? 1 : 0;
+                // Up one slab, or across the end of a periodic axis from its last slab to its first
+                // (on an open axis of two slabs, the slab below is not the one above).
+                const bool wraps_up = split.periodic[a] && c == 0 && split.coords[a] == split.dims[a] - 1;
+                const int up = c == split.coords[a] + 1 || wraps_up ? 1 : 0;
                 leaving[up].push_back(st);
                 way[st.r.id] = up;
             }
@@ -262,9 +265,10 @@ private:
                 carried.insert(carried.end(), arrived_springs.begin(), arrived_springs.end());
             }
         }
-        SpringsByPair<History> by_pair;
-        for (const CarriedSpring& cs : carried) by_pair.emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);  // held twice: the first
-        distribute(states, by_pair, false);
+        SpringsByPair<History> by_pair, by_wall;
+        for (const CarriedSpring& cs : carried)  // a pair's held twice: the first
+            (cs.wall ? by_wall : by_pair).emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);
+        distribute(states, by_pair, by_wall, Stage::within_step);
         ++redistributions_;
     }
 
@@ -282,11 +286,13 @@ private:
         return in;
     }
 
-    /// This rank's engine on the particles of `all` it owns and the ghosts of its new halo, each
-    /// pair's spring from `springs` (the others start anew). `first`: the run's start, whose
-    /// forces are computed; else mid-step, where the last forces and torques are restored for
-    /// the integrator's closing kick and the forces are left to the integrator's evaluation.
-    void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, bool first) {
+    /// This rank's engine on the particles of `all` it owns and the ghosts of its new halo, with
+    /// the walls of walls_, each pair's spring from `springs` and each wall contact's from
+    /// `wall_springs` by (global id, wall) (the others start anew). At a fresh start the forces
+    /// are computed; else the last forces and torques are restored (for the integrator's closing
+    /// kick within a step) and so are the walls' forces.
+    void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs,
+                    Stage stage) {
         std::vector<ParticleRecord> owned;
         std::vector<const State*> own_states;
         for (const State& s : all) {
@@ -297,7 +303,8 @@ private:
             own_states.push_back(&s);
         }
         halo_.emplace(comm_, owned, width_);
-        local_.emplace(law_, comm_.split().local_domain());
+        if constexpr (Sim::has_walls) local_.emplace(law_, comm_.split().local_domain(), walls_);
+        else local_.emplace(law_, comm_.split().local_domain());
         global_.clear();
         for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
             for (const ParticleRecord& r : *set) {
@@ -313,21 +320,33 @@ private:
         local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
         local_->set_first_ghost(owned_);  // two ghosts' forces are their owners' to compute
         local_->set_track_energy(false);  // the books would count the ghosts' contacts too
-        local_->prepare();                // the lists (and, at the start, the first forces)
+        local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
+        local_->prepare();                 // the lists (and forces, replaced below unless fresh)
         rebuilds_ = local_->neighbor_rebuilds();
         ghosts_current_ = true;
-        if (first) return;
+        if (stage == Stage::fresh) {
+            if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+            return;
+        }
+        if constexpr (Sim::has_walls)
+            for (std::size_t k = 0; k < walls_.size(); ++k) local_->walls()[k].force = walls_[k].force;
         auto& p = local_->particles();
         for (std::size_t i = 0; i < owned_; ++i) {
             for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
             p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
         }
         restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
+        if constexpr (Sim::has_walls)
+            local_->visit_wall_histories([&](Index i, Index w, History& h) {
+                const auto found = wall_springs.find(std::pair{global_id(i), w});
+                h = found == wall_springs.end() ? History{} : found->second;
+            });
     }
 
     CartesianComm<dim> comm_;
     Domain<dim> box_;
     Law law_;
+    Boundary walls_;  // every wall as of the last distribution (force: the sum over the ranks)
     std::optional<Sim> local_;
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts

@@ -1,0 +1,78 @@
+#pragma once
+// Walls over MPI ranks (mpi::DistributedRun): the box the ranks split when walls alone bound the
+// scene, the stress-controlled walls a split cannot measure, and the walls' forces summed over
+// the ranks so that every rank moves the walls by the same numbers.
+#include <array>
+#include <cstddef>
+#include <limits>
+#include <variant>
+#include <vector>
+
+#include <mpi.h>
+
+#include "micromacro/core/dim_traits.hpp"
+#include "micromacro/core/domain.hpp"
+#include "micromacro/core/error.hpp"
+#include "micromacro/mpi/communicator.hpp"
+#include "micromacro/walls/motion.hpp"
+
+namespace micromacro::mpi {
+
+/// The box the ranks split: the scene's, or for a scene without bounds (walls alone, as the
+/// biaxial test's), the particles' extent at the start; particles that leave it later belong to
+/// the end slabs (CartesianSplit::slab).
+template <class Sim>
+Domain<Sim::dimension> split_box(const Sim& whole) {
+    constexpr int dim = Sim::dimension;
+    const Domain<dim>& d = whole.domain();
+    bool bounded = true;
+    for (int a = 0; a < dim; ++a) bounded = bounded && d.hi()[a] > d.lo()[a];
+    const auto& p = whole.particles();
+    if (bounded || p.size() == 0) return d;
+    Vec<dim> lo = Vec<dim>::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        const Vec<dim> x = convert<double>(p.position()[i]);
+        lo = lo.cwiseMin(Vec<dim>(x.array() - double(p.radius()[i])));
+        hi = hi.cwiseMax(Vec<dim>(x.array() + double(p.radius()[i])));
+    }
+    std::array<bool, dim> periodic{};
+    for (int a = 0; a < dim; ++a) periodic[a] = d.periodic(a);
+    return Domain<dim>(lo, hi, periodic);
+}
+
+/// Refuses a stress-controlled wall that measures its area along a periodic axis split over
+/// ranks: a rank's engine sees its slab there, not the period.
+template <int dim, class Walls>
+void check_wall_areas(const Walls& walls, const CartesianSplit<dim>& split) {
+    for (std::size_t k = 0; k < walls.size(); ++k) {
+        const auto* s = std::get_if<StressControlled>(&walls[k].motion);
+        if (!s || s->area > 0.0) continue;
+        for (int a = 0; a < dim; ++a)
+            if (split.periodic[a] && split.dims[a] > 1 && walls[k].axis() != a)
+                micromacro::detail::throw_input_error("stress-controlled wall ", k, " measures its area along periodic axis ", a,
+                                                      ", which is split over ", split.dims[a],
+                                                      " ranks (a rank's engine sees its slab, not the period); give "
+                                                      "StressControlled::area");
+    }
+}
+
+/// The walls' forces, each rank's share of them summed over the ranks in rank order (the same
+/// numbers on every rank; one rank keeps its own bits). A collective call.
+template <int dim, class Walls>
+void sum_wall_forces(Walls& walls, const CartesianComm<dim>& comm) {
+    const std::size_t n = walls.size() * dim;
+    if (n == 0) return;
+    std::vector<double> mine(n), all(n * static_cast<std::size_t>(comm.size()));
+    for (std::size_t k = 0; k < walls.size(); ++k)
+        for (int a = 0; a < dim; ++a) mine[k * dim + a] = walls[k].force[a];
+    check(MPI_Allgather(mine.data(), static_cast<int>(n), MPI_DOUBLE, all.data(), static_cast<int>(n), MPI_DOUBLE, comm.comm()),
+          "MPI_Allgather (wall forces)");
+    for (std::size_t k = 0; k < walls.size(); ++k) {
+        Vec<dim> f = Vec<dim>::Zero();
+        for (int r = 0; r < comm.size(); ++r)
+            for (int a = 0; a < dim; ++a) f[a] += all[std::size_t(r) * n + k * dim + a];
+        walls[k].force = f;
+    }
+}
+
+}  // namespace micromacro::mpi
