@@ -59,7 +59,8 @@ auto lattice(int per_side, double skin, double holes = 0.0, double spacing = 1.9
 // pressed 10 um into the walls: along the last axis the upper wall moves in by 20 um over the
 // first 200 steps (Eq. 17), along the first axis the upper wall is stress-controlled (Eq. 18) at
 // about the pressure of the rows pressed into it, so that it moves; the others are fixed. The
-// walls are frictional (the scene's law), so that wall contacts hold springs too. `bounded`: the
+// walls are frictional (the scene's law), so that wall contacts hold springs too; the particles are
+// damped against the walls' mean flow (AffineDamping, as in the biaxial test). `bounded`: the
 // domain (open on every axis) spans the outer rows' centres, so that the rows sit on the
 // boundaries between slabs and the outer ones half outside; else it is unbounded, as the biaxial
 // test's.
@@ -70,7 +71,9 @@ auto walled_lattice(int per_side, double skin, bool bounded) {
     walls.add_box(mm::Vec<dim>::Constant(lo), mm::Vec<dim>::Constant(hi));
     const mm::Domain<dim> domain =
         bounded ? mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant((per_side - 1) * spacing), {}) : mm::Domain<dim>();
-    mm::BasicSimulation<dim, double, mm::FrictionalLinear, mm::Walls<dim>> sim(lattice_law, domain, walls);
+    const double gamma = 1e-3;  // kg/s: changes the velocities by about 1e-2 over 200 steps
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear, mm::Walls<dim>, mm::VelocityVerlet, mm::LinkedCells, mm::AffineDamping> sim(
+        lattice_law, domain, walls, {}, {}, mm::AffineDamping(gamma, 0.4 * gamma * 1e-6));
     fill_lattice<dim>(sim, per_side, skin, 0.0, spacing);
     for (auto& x : sim.particles().position())  // the periodic lattice's wrapped jitter back next to its row
         for (int a = 0; a < dim; ++a)

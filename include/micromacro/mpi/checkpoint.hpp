@@ -46,8 +46,8 @@ std::vector<T> all_of(MPI_Comm comm, const std::vector<T>& mine) {
 /// The whole scene of `run` as one serial scene, the same on every rank (a collective call):
 /// particles numbered by their global ids (the numbering of the scene the run started from),
 /// their positions (in the box), velocities, angular velocities and the last forces and torques,
-/// each pair's and wall contact's spring, the walls (every rank's copy is the same), the run's
-/// clock, time step and skin. Energy books are off (a distributed
+/// each pair's and wall contact's spring, the walls (every rank's copy is the same) and body
+/// forces, the run's clock, time step and skin. Energy books are off (a distributed
 /// run keeps none) and so is the engine's own sorting, so that indices stay the global ids.
 template <class Sim>
 Sim whole_scene(const DistributedRun<Sim>& run) {
@@ -75,10 +75,7 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
 
     std::vector<const checkpoint_detail::Particle*> by_id(particles.size(), nullptr);
     for (const auto& q : particles) by_id.at(q.r.id) = &q;
-    Sim whole = [&] {
-        if constexpr (Sim::has_walls) return Sim(local.law(), run.box(), local.walls());
-        else return Sim(local.law(), run.box());
-    }();
+    Sim whole = run.empty_scene();
     auto& w = whole.particles();
     for (const auto* q : by_id) {
         Vec<dim> x;

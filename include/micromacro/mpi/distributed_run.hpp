@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <map>
 #include <optional>
+#include <tuple>
 #include <type_traits>
 #include <utility>
 #include <vector>
@@ -44,6 +45,20 @@
 #include "micromacro/neighbors/skin.hpp"
 
 namespace micromacro::mpi {
+
+namespace detail {
+/// An engine type's neighbour search and body forces, and a copy of its body forces.
+template <class Sim>
+struct EngineParts;
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+struct EngineParts<BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>> {
+    using NeighborSearch = Neighbors;
+    using Forces = std::tuple<BodyForces...>;
+    static Forces forces_of(const BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>& s) {
+        return Forces{s.template body_force<BodyForces>()...};
+    }
+};
+}  // namespace detail
 
 template <class Sim>
 class DistributedRun {
@@ -65,7 +80,8 @@ public:
     /// ranks of `parent`. The skin is the scene's, or the engine's default (a fifth of the mean
     /// radius); the halo is the largest contact distance plus it. The clock starts at whole's.
     DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh)
-        : comm_(parent, split_box(whole)), box_(whole.domain()), law_(whole.law()), walls_(whole.walls()), skin_(whole.skin()),
+        : comm_(parent, split_box(whole)), box_(whole.domain()), law_(whole.law()), walls_(whole.walls()),
+          forces_(detail::EngineParts<Sim>::forces_of(whole)), skin_(whole.skin()),
           dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()) {
         const auto& p = whole.particles();
         if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
@@ -109,6 +125,9 @@ public:
     double time() const { return time_; }
     std::size_t steps_done() const { return steps_; }
     double time_step() const { return dt_; }
+    /// An engine without particles with the scene's law, body forces and walls (as they stand
+    /// now), in the whole scene's box: what mpi::whole_scene fills.
+    Sim empty_scene() const { return engine(box_, local_->walls()); }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
     /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
@@ -163,6 +182,14 @@ private:
     /// How distribute() starts a rank's engine: at the run's start (fresh or resumed) or within
     /// a step.
     enum class Stage { fresh, resume, within_step };
+
+    /// An engine without particles with the scene's law and body forces, in `domain`, with `walls`.
+    Sim engine(const Domain<dim>& domain, const Boundary& walls) const {
+        return std::apply([&](const auto&... forces) {
+            return Sim(law_, domain, walls, typename Sim::IntegratorPolicy{}, typename detail::EngineParts<Sim>::NeighborSearch{},
+                       forces...);
+        }, forces_);
+    }
 
     void write_motion(std::size_t i, const ParticleRecord& r) {
         auto& p = local_->particles();
@@ -303,8 +330,7 @@ private:
             own_states.push_back(&s);
         }
         halo_.emplace(comm_, owned, width_);
-        if constexpr (Sim::has_walls) local_.emplace(law_, comm_.split().local_domain(), walls_);
-        else local_.emplace(law_, comm_.split().local_domain());
+        local_.emplace(engine(comm_.split().local_domain(), walls_));
         global_.clear();
         for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
             for (const ParticleRecord& r : *set) {
@@ -347,6 +373,7 @@ private:
     Domain<dim> box_;
     Law law_;
     Boundary walls_;  // every wall as of the last distribution (force: the sum over the ranks)
+    typename detail::EngineParts<Sim>::Forces forces_;
     std::optional<Sim> local_;
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts
