@@ -8,6 +8,7 @@
 
 #include <mpi.h>
 
+#include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/mpi/cartesian_split.hpp"
@@ -52,6 +53,12 @@ public:
     int rank() const { return rank_; }
     int size() const { return size_; }
     const CartesianSplit<dim>& split() const { return split_; }
+    /// Moves the split's box to [lo, hi] along the axes where `along` is true (open axes; each
+    /// rank keeps its place in the split).
+    void move_box(const Vec<dim>& lo, const Vec<dim>& hi, const std::array<bool, dim>& along) {
+        for (int a = 0; a < dim; ++a)
+            if (along[a]) split_.lo[a] = lo[a], split_.hi[a] = hi[a];
+    }
     /// The rank across the lower (direction -1) or upper (+1) face along axis a; MPI_PROC_NULL
     /// at an open box's end. With one slab on a periodic axis, this rank itself.
     int neighbour(int a, int direction) const { return direction < 0 ? below_[a] : above_[a]; }

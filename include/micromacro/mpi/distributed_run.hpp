@@ -18,9 +18,9 @@
 // Walls: every rank holds every wall, and a particle's wall contacts are its owner's (a ghost
 // has none). After each force evaluation the walls' forces are summed over the ranks, each
 // rank's share in rank order on every rank, so that the walls move by the same numbers
-// everywhere; a wall contact's spring travels with its particle. A box without periodic axes
-// (the biaxial test's) is split over the particles' extent at the start; particles that leave
-// it later belong to the end slabs.
+// everywhere; a wall contact's spring travels with its particle. Along an axis the scene leaves
+// unbounded (walls alone bound the biaxial test's box) the split is the particles' extent, taken
+// again at every redistribution, so that the slabs keep equal shares of a box the walls deform.
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -81,7 +81,7 @@ public:
     /// radius); the halo is the largest contact distance plus it. The clock starts at whole's.
     DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh)
         : comm_(parent, split_box(whole)), box_(whole.domain()), law_(whole.law()), walls_(whole.walls()),
-          forces_(detail::EngineParts<Sim>::forces_of(whole)), skin_(whole.skin()),
+          forces_(detail::EngineParts<Sim>::forces_of(whole)), follows_(following_axes(whole)), skin_(whole.skin()),
           dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()) {
         const auto& p = whole.particles();
         if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
@@ -231,6 +231,7 @@ private:
     /// Then halos and the engine are built afresh.
     void redistribute() {
         const auto& p = local_->particles();
+        follow_extent<dim>(comm_, p, owned_, follows_);  // where walls alone bound the box
         const CartesianSplit<dim>& split = comm_.split();
         std::vector<State> states;
         for (std::size_t i = 0; i < owned_; ++i) {
@@ -374,6 +375,7 @@ private:
     Law law_;
     Boundary walls_;  // every wall as of the last distribution (force: the sum over the ranks)
     typename detail::EngineParts<Sim>::Forces forces_;
+    std::array<bool, dim> follows_;  // the axes whose split follows the particles' extent
     std::optional<Sim> local_;
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts

@@ -1,7 +1,8 @@
 #pragma once
 // Walls over MPI ranks (mpi::DistributedRun): the box the ranks split when walls alone bound the
-// scene, the stress-controlled walls a split cannot measure, and the walls' forces summed over
-// the ranks so that every rank moves the walls by the same numbers.
+// scene and how it follows the particles, the stress-controlled walls a split cannot measure, and
+// the walls' forces summed over the ranks so that every rank moves the walls by the same numbers.
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <limits>
@@ -38,6 +39,37 @@ Domain<Sim::dimension> split_box(const Sim& whole) {
     std::array<bool, dim> periodic{};
     for (int a = 0; a < dim; ++a) periodic[a] = d.periodic(a);
     return Domain<dim>(lo, hi, periodic);
+}
+
+/// The axes along which the split follows the particles: those the scene leaves unbounded (a
+/// box of walls alone), where split_box took the particles' extent.
+template <class Sim>
+std::array<bool, Sim::dimension> following_axes(const Sim& whole) {
+    std::array<bool, Sim::dimension> follows{};
+    for (int a = 0; a < Sim::dimension; ++a) follows[a] = !whole.domain().periodic(a) && !(whole.domain().hi()[a] > whole.domain().lo()[a]);
+    return follows;
+}
+
+/// Moves the split's box along the `follows` axes to the particles' extent now, over every
+/// rank's first `owned` particles (a collective call): as the walls compress or widen the box,
+/// the slabs keep equal shares of it.
+template <int dim, class Particles>
+void follow_extent(CartesianComm<dim>& comm, const Particles& p, std::size_t owned, const std::array<bool, dim>& follows) {
+    bool any = false;
+    for (bool f : follows) any = any || f;
+    if (!any) return;
+    std::array<double, 2 * dim> here, all;  // -min, then max: one MPI_MAX
+    here.fill(-std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < owned; ++i)
+        for (int a = 0; a < dim; ++a) {
+            const double x = p.position()[i][a], r = p.radius()[i];
+            here[a] = std::max(here[a], -(x - r));
+            here[dim + a] = std::max(here[dim + a], x + r);
+        }
+    check(MPI_Allreduce(here.data(), all.data(), 2 * dim, MPI_DOUBLE, MPI_MAX, comm.comm()), "MPI_Allreduce (extent)");
+    Vec<dim> lo, hi;
+    for (int a = 0; a < dim; ++a) lo[a] = -all[a], hi[a] = all[dim + a];
+    comm.move_box(lo, hi, follows);
 }
 
 /// Refuses a stress-controlled wall that measures its area along a periodic axis split over
