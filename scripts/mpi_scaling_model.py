@@ -7,14 +7,14 @@ document's tables. Plain Python, no modules:
 
 A rank's step, with n = N / P particles on a cubic (square in 2D) subdomain:
 
-    T(n, P) = t_p n (1 + g) + 104 B * ghosts / beta + (messages + log2 P) * alpha
+    T(n, P) = t_p n (1 + g) + b * ghosts / beta + (messages + log2 P) * alpha
 
 - t_p: the serial engine's time per particle-step (one rank, measured);
 - g = ghosts / n: a ghost costs what an owned particle costs (its pairs with the owned particles
   are computed on both ranks, it is integrated and its record copied);
 - ghosts: the particle layers within the halo (contact range plus skin, `layers` particle
   spacings, measured from the ghost count of two ranks) around the subdomain on the split axes;
-- 104 bytes per ghost and step (one refresh), at bandwidth beta; 2 messages per split axis per
+- b bytes per ghost and step (one refresh of its motion: 40 in 2D, 72 in 3D), at bandwidth beta; 2 messages per split axis per
   step and one MPI_Allreduce (the largest move) of log2 P latencies alpha;
 - redistributions (every tens of steps, about one halo build each) and load imbalance left out.
 """
@@ -23,9 +23,10 @@ import math
 # Measured on the 2-core AMD EPYC of docs/performance.md (one rank = the serial engine).
 T_P = {2: 1 / 3.93e7, 3: 1 / 1.90e7}   # s per particle-step: 2D N = 200 000, 3D N = 100 000 lattices
 LAYERS = {2: 1.0, 3: 1.26}              # halo depth in particle layers: 2 ranks held 894 and 5 350 ghosts
-RECORD = 104.0                          # bytes per ghost per refresh
+RECORD = {2: 40.0, 3: 72.0}             # bytes per ghost per refresh (mpi::Motion)
 # Fitted to the two-rank runs: 3D spent 0.12 ms per step beyond its ghosts' compute while sending
-# 555 kB, so about 5 GB/s between the two ranks of this machine (shared memory).
+# 555 kB (in 104-byte records, before a refresh sent the motion only), so about 5 GB/s between the
+# two ranks of this machine (shared memory).
 BETA_NODE = 5e9
 # Assumptions for a cluster (not measured here): InfiniBand HDR-class links.
 ALPHA = 2e-6                            # s per message
@@ -58,7 +59,7 @@ def step_time(N, P, dim, beta=BETA, alpha=ALPHA):
     ghosts = max(0.0, grown - n)  # zero on one rank (rounding aside)
     split_axes = sum(1 for d in dims if d > 1)
     compute = T_P[dim] * (n + ghosts)
-    comm = RECORD * ghosts / beta + (2 * split_axes + (math.log2(P) if P > 1 else 0)) * alpha
+    comm = RECORD[dim] * ghosts / beta + (2 * split_axes + (math.log2(P) if P > 1 else 0)) * alpha
     return compute + comm, ghosts / n, comm
 
 
