@@ -217,8 +217,8 @@ void write_particles(const ParticleFrame<dim>& f, const std::filesystem::path& p
 }
 
 /// The summary file (.pvtp) of a data set written in pieces, one file per piece (`pieces`,
-/// named relative to the summary's folder), each with the point arrays of `piece`: ParaView
-/// opens the summary as one data set. Written atomically, like every file here.
+/// named relative to the summary's folder), each with the point and cell arrays of `piece`:
+/// ParaView opens the summary as one data set. Written atomically, like every file here.
 inline void write_piece_summary(vtkPolyData* piece, const std::vector<std::string>& pieces, const std::filesystem::path& path) {
     detail::check_directory(path);
     auto type = [](vtkDataArray* a) -> std::string {
@@ -232,27 +232,37 @@ inline void write_piece_summary(vtkPolyData* piece, const std::vector<std::strin
                                                       a->GetDataTypeAsString(), ", which the summary cannot name");
         }
     };
+    auto list = [&](std::ofstream& out, vtkDataSetAttributes* data) {  // one PDataArray per array
+        for (int k = 0; k < data->GetNumberOfArrays(); ++k) {
+            vtkDataArray* a = data->GetArray(k);
+            out << "      <PDataArray " << type(a) << " Name=\"" << a->GetName() << "\" NumberOfComponents=\""
+                << a->GetNumberOfComponents() << "\"/>\n";
+        }
+    };
     detail::write_whole_file(path, std::ios::out, [&](std::ofstream& out) {
         out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
             << "  <PPolyData GhostLevel=\"0\">\n    <PPointData";
         auto* pd = piece->GetPointData();
         if (pd->GetScalars()) out << " Scalars=\"" << pd->GetScalars()->GetName() << "\"";
         out << ">\n";
-        for (int k = 0; k < pd->GetNumberOfArrays(); ++k) {
-            vtkDataArray* a = pd->GetArray(k);
-            out << "      <PDataArray " << type(a) << " Name=\"" << a->GetName() << "\" NumberOfComponents=\""
-                << a->GetNumberOfComponents() << "\"/>\n";
+        list(out, pd);
+        out << "    </PPointData>\n";
+        if (auto* cd = piece->GetCellData(); cd->GetNumberOfArrays() > 0) {
+            out << "    <PCellData>\n";
+            list(out, cd);
+            out << "    </PCellData>\n";
         }
-        out << "    </PPointData>\n    <PPoints>\n      <PDataArray " << type(piece->GetPoints()->GetData())
+        out << "    <PPoints>\n      <PDataArray " << type(piece->GetPoints()->GetData())
             << " Name=\"Points\" NumberOfComponents=\"3\"/>\n    </PPoints>\n";
         for (const auto& file : pieces) out << "    <Piece Source=\"" << file << "\"/>\n";
         out << "  </PPolyData>\n</VTKFile>\n";
     });
 }
 
-/// The force network: a line per contact.
+/// The force network: a line per contact, from the first particle's centre to its partner's as the
+/// branch vector sees it (minimum image) or to the wall point; every particle's centre is a point.
 template <int dim>
-void write_contacts(const PackingSnapshot<dim>& s, const std::filesystem::path& path) {
+vtkSmartPointer<vtkPolyData> contact_data(const PackingSnapshot<dim>& s) {
     vtkNew<vtkPoints> points;
     points->SetDataTypeToDouble();
     for (const auto& x : s.position) points->InsertNextPoint(detail::xyz<dim>(x).data());
@@ -274,13 +284,19 @@ void write_contacts(const PackingSnapshot<dim>& s, const std::filesystem::path& 
         overlap->SetValue(q, c.overlap);
         sliding->SetValue(q, c.sliding ? 1 : 0);
     }
-    vtkNew<vtkPolyData> data;
+    auto data = vtkSmartPointer<vtkPolyData>::New();
     data->SetPoints(points);
     data->SetLines(lines);
     auto* cd = data->GetCellData();
     for (auto* a : {normal.Get(), tangential.Get(), overlap.Get()}) cd->AddArray(a);
     cd->AddArray(sliding);
-    detail::write_polydata(data, path);
+    return data;
+}
+
+/// The force network as a file (contact_data).
+template <int dim>
+void write_contacts(const PackingSnapshot<dim>& s, const std::filesystem::path& path) {
+    detail::write_polydata(contact_data(s), path);
 }
 
 /// The walls of a box: each as a line (2D) or quad (3D) across the box, with its force.
