@@ -6,7 +6,8 @@
 // start and after 200 steps (the particles handed to new ranks on the way). In 2D and 3D. A
 // tenth of the particles are shrunk out of contact, and the rattler peel cascades across ranks:
 // in 3D it takes about a tenth more at the start, in 2D every particle (on a square lattice a
-// particle between two holes is left with two contacts, and so on through the whole box).
+// particle between two holes is left with two contacts, and so on through the whole box). The
+// same in a box of moving walls, whose contacts count.
 #define BOOST_TEST_MODULE mpi_averaging
 #include <boost/test/unit_test.hpp>
 
@@ -103,6 +104,41 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(averages_over_ranks_are_the_serial_averages, D, Di
     if constexpr (dim == 2) BOOST_TEST(rattlers_at_start == n);
     else BOOST_TEST((rattlers_at_start > n / 10 && rattlers_at_start < n / 5), rattlers_at_start << " rattlers of " << n);
     BOOST_TEST(distributed.redistributions() > 0u);
+}
+
+// In a box of walls that move (Eq. 17 and 18), with the walls' contacts in the sums: the paper's
+// inner box (10% left out next to each wall) and the whole box, after 0 and 200 steps.
+BOOST_AUTO_TEST_CASE_TEMPLATE(averages_in_a_box_of_walls_over_ranks_are_the_serial_averages, D, Dims) {
+    constexpr int dim = D::value;
+    auto serial = mmtest::walled_lattice<dim>(dim == 2 ? 19 : 7, 10e-6, true);
+    serial.set_track_energy(false);  // as the distributed run (see tests/mpi/distributed_run.cpp)
+    mm::mpi::DistributedRun distributed(MPI_COMM_WORLD, serial);
+    serial.prepare();
+    std::size_t wall_contacts = 0;
+    for (int steps : {0, 200}) {
+        if (steps > 0) {
+            serial.run(steps);
+            distributed.run(steps);
+        }
+        const auto snapshot = mm::take_snapshot(serial);
+        for (double margin : {0.1, 0.0})
+            for (auto rule : {mm::SelectionRule::contact_point, mm::SelectionRule::particle_centre})
+                for (bool exclude : {false, true}) {
+                    mm::AveragingOptions opt;
+                    opt.rule = rule;
+                    opt.exclude_rattlers = exclude;
+                    const auto region = mm::Region<dim>::inner(snapshot, margin);
+                    const auto whole = mm::average(snapshot, region, opt);
+                    const auto split = mm::mpi::average(distributed, region, opt);
+                    std::ostringstream what;
+                    what << dim << "D walls, step " << steps << ", margin " << margin
+                         << (rule == mm::SelectionRule::contact_point ? ", contact points" : ", particle centres")
+                         << (exclude ? ", rattlers left out" : "");
+                    compare(split, whole, what.str());
+                }
+        for (const auto& c : snapshot.contacts) wall_contacts += c.wall;
+    }
+    BOOST_TEST(wall_contacts > 0u);
 }
 
 // The coarse-grained fields (Lucy's kernel, two diameters wide, on a grid of 10 points per axis in
