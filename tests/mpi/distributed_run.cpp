@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <random>
 
 #include <micromacro/mpi/distributed_run.hpp>
@@ -44,16 +45,42 @@ double norm(const A& w) {
 
 // With a skin of 0.5 mm the particles stay with their first ranks for the 200 steps; with 10 um
 // they are handed to new ranks every few steps (the springs with them), and some change ranks.
-// Returns the split's box at the start and at the end (rank-independent).
+// This rank's share of `serial`'s particles for DistributedRun's Input::share: a contiguous run of
+// the serial numbering (rank 0's first), wherever its particles are.
+template <class Sim>
+Sim share_of(const Sim& serial) {
+    const int rank = mmtest::world_rank(), ranks = mmtest::world_size();
+    Sim share = [&] {
+        if constexpr (Sim::has_walls)
+            return Sim(serial.law(), serial.domain(), serial.walls(), {}, {}, serial.template body_force<mm::AffineDamping>());
+        else return Sim(serial.law(), serial.domain());
+    }();
+    const auto& s = serial.particles();
+    const std::size_t begin = s.size() * rank / ranks, end = s.size() * (rank + 1) / ranks;
+    for (std::size_t i = begin; i < end; ++i) {
+        const std::size_t k = share.particles().add(s.position()[i], s.radius()[i], s.mass()[i], s.template get<mm::field::Inertia>()[i]);
+        share.particles().velocity()[k] = s.velocity()[i];
+        share.particles().template get<mm::field::AngularVelocity>()[k] = s.template get<mm::field::AngularVelocity>()[i];
+    }
+    share.set_time_step(serial.time_step());
+    share.set_skin(serial.skin());
+    return share;
+}
+
+// Returns the split's box at the start and at the end (rank-independent). `shares`: each rank
+// passes its share of the particles (share_of) instead of the whole scene.
 template <class Sim>
 std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::dimension>> compare_with_serial(
-    Sim serial, bool redistributes, bool migrates) {
+    Sim serial, bool redistributes, bool migrates, bool shares = false) {
     constexpr int dim = Sim::dimension;
     const double skin = serial.skin();
     // A distributed run keeps no energy books; with fused multiply-adds the books' code changes how
     // the compiler contracts the wall loop's arithmetic, so the serial run keeps none either.
     serial.set_track_energy(false);
-    mm::mpi::DistributedRun distributed(MPI_COMM_WORLD, serial);  // from the state before the steps
+    using Run = mm::mpi::DistributedRun<Sim>;
+    const std::optional<Sim> share = shares ? std::optional<Sim>(share_of(serial)) : std::nullopt;
+    mm::mpi::DistributedRun distributed(MPI_COMM_WORLD, shares ? *share : serial, Run::Start::fresh,
+                                        shares ? Run::Input::share : Run::Input::whole);  // from the state before the steps
     const auto first_split = distributed.comm().split();
     // The round-off level: the serial run with its particles numbered backwards (the same sums
     // in another order).
@@ -207,4 +234,19 @@ BOOST_AUTO_TEST_CASE(a_wall_area_along_a_split_periodic_axis_is_refused) {
     auto start = [&] { mm::mpi::DistributedRun run(MPI_COMM_WORLD, sim); };
     if (mmtest::world_size() == 1) start();
     else mmtest::expect_error(start, {"stress-controlled wall 1", "periodic axis 0", "give StressControlled::area"});
+}
+
+// Each rank passes only its share of the particles (a contiguous run of the serial numbering,
+// across the whole box): they reach their owners, and the run is the serial one, in the periodic
+// box and in the box of walls, whose split is the extent of every share's particles.
+BOOST_AUTO_TEST_CASE_TEMPLATE(shares_of_the_particles_give_the_serial_state, D, Dims) {
+    compare_with_serial(lattice<D::value>(per_side(D::value), 10e-6), true, true, true);
+    compare_with_serial(mmtest::walled_lattice<D::value>(D::value == 2 ? 19 : 7, 0.5e-3, false), false, false, true);
+}
+
+BOOST_AUTO_TEST_CASE(a_share_cannot_resume) {
+    auto serial = lattice<2>(per_side(2), 10e-6);
+    using Run = mm::mpi::DistributedRun<decltype(serial)>;
+    mmtest::expect_error([&] { Run run(MPI_COMM_WORLD, share_of(serial), Run::Start::resume, Run::Input::share); },
+                         {"resumed run", "Input::whole"});
 }

@@ -53,6 +53,14 @@ public:
     int rank() const { return rank_; }
     int size() const { return size_; }
     const CartesianSplit<dim>& split() const { return split_; }
+    /// The rank whose subdomain owns position x.
+    int owner(const Vec<dim>& x) const {
+        std::array<int, dim> coords{};
+        for (int a = 0; a < dim; ++a) coords[a] = split_.slab(a, x[a]);
+        int rank = 0;
+        check(MPI_Cart_rank(comm_, coords.data(), &rank), "MPI_Cart_rank");
+        return rank;
+    }
     /// Moves the split's box to [lo, hi] along the axes where `along` is true (open axes; each
     /// rank keeps its place in the split).
     void move_box(const Vec<dim>& lo, const Vec<dim>& hi, const std::array<bool, dim>& along) {

@@ -40,25 +40,13 @@
 #include "micromacro/engine/simulation.hpp"
 #include "micromacro/mpi/communicator.hpp"
 #include "micromacro/mpi/distributed_walls.hpp"
+#include "micromacro/mpi/engine_parts.hpp"
 #include "micromacro/mpi/halo.hpp"
+#include "micromacro/mpi/migration.hpp"
 #include "micromacro/mpi/springs.hpp"
 #include "micromacro/neighbors/skin.hpp"
 
 namespace micromacro::mpi {
-
-namespace detail {
-/// An engine type's neighbour search and body forces, and a copy of its body forces.
-template <class Sim>
-struct EngineParts;
-template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
-struct EngineParts<BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>> {
-    using NeighborSearch = Neighbors;
-    using Forces = std::tuple<BodyForces...>;
-    static Forces forces_of(const BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>& s) {
-        return Forces{s.template body_force<BodyForces>()...};
-    }
-};
-}  // namespace detail
 
 template <class Sim>
 class DistributedRun {
@@ -75,21 +63,48 @@ public:
     /// state file, such as one written from whole_scene in mpi/checkpoint.hpp), so that the run
     /// continues as whole would have.
     enum class Start { fresh, resume };
+    /// What each rank passes: `whole`, the whole scene (the same on every rank), of which it keeps
+    /// the particles it owns; or `share`, its own share of the particles (any positions: each goes
+    /// to the rank that owns it), numbered over the ranks in rank order (rank 0's share first),
+    /// with the same law, walls, body forces, time step, skin and clock on every rank, so that no
+    /// rank need hold the whole scene. A share starts fresh (its springs are not known across the
+    /// shares).
+    enum class Input { whole, share };
 
     /// Splits `whole` (the same scene on every rank: particles, law, dt, skin, a box) over the
     /// ranks of `parent`. The skin is the scene's, or the engine's default (a fifth of the mean
     /// radius); the halo is the largest contact distance plus it. The clock starts at whole's.
-    DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh)
-        : comm_(parent, split_box(whole)), box_(whole.domain()), law_(whole.law()), walls_(whole.walls()),
+    DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh, Input input = Input::whole)
+        : comm_(parent, split_box(whole, input == Input::share ? parent : MPI_COMM_NULL)), box_(whole.domain()), law_(whole.law()),
+          walls_(whole.walls()),
           forces_(detail::EngineParts<Sim>::forces_of(whole)), follows_(following_axes(whole)), skin_(whole.skin()),
           dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()) {
         const auto& p = whole.particles();
-        if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
-        width_ = interaction_range(p.radius(), skin_);
-        const bool resume = start == Start::resume;
+        const bool resume = start == Start::resume, share = input == Input::share;
+        if (resume && share)
+            micromacro::detail::throw_input_error("DistributedRun: a resumed run starts from the whole scene on every rank (its springs "
+                                                  "span the shares); use Input::whole, as mpi::whole_scene gives it");
+        Index first_id = 0;  // of this rank's share
+        if (share) {
+            // The skin and halo from every share's radii; the ids after the earlier ranks' shares.
+            double here[3] = {0.0, double(p.size()), 0.0}, all[3];
+            for (std::size_t i = 0; i < p.size(); ++i) here[0] += double(p.radius()[i]), here[2] = std::max(here[2], double(p.radius()[i]));
+            check(MPI_Allreduce(here, all, 2, MPI_DOUBLE, MPI_SUM, comm_.comm()), "MPI_Allreduce (radii)");
+            check(MPI_Allreduce(&here[2], &all[2], 1, MPI_DOUBLE, MPI_MAX, comm_.comm()), "MPI_Allreduce (largest radius)");
+            if (!(skin_ > 0.0)) skin_ = all[1] > 0 ? 0.2 * all[0] / all[1] : 1.0;  // default_skin over every share
+            width_ = 2.0 * all[2] + skin_;                                            // interaction_range likewise
+            unsigned long long mine = p.size(), before = 0;
+            check(MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, parent), "MPI_Exscan (ids)");
+            int parent_rank = 0;
+            check(MPI_Comm_rank(parent, &parent_rank), "MPI_Comm_rank");
+            first_id = parent_rank == 0 ? 0 : static_cast<Index>(before);  // MPI_Exscan leaves rank 0's undefined
+        } else {
+            if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
+            width_ = interaction_range(p.radius(), skin_);
+        }
         std::vector<State> all;
         for (std::size_t i = 0; i < p.size(); ++i) {
-            State s{record_of(p, i, p.id(i)), {}, {}};
+            State s{record_of(p, i, first_id + p.id(i)), {}, {}};
             Vec<dim> x = p.position()[i];
             box_.wrap(x);  // as the serial engine does before its first step
             for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = resume ? double(p.force()[i][a]) : 0.0;
@@ -105,6 +120,12 @@ public:
             if constexpr (Sim::has_walls)
                 whole.visit_wall_histories([&](Index i, Index w, const History& h) { wall_springs.emplace(std::pair{p.id(i), w}, h); });
         }
+        if (share)
+            all = to_owners(comm_.comm(), comm_.size(), all, [&](const State& st) {
+                Vec<dim> x;
+                for (int a = 0; a < dim; ++a) x[a] = st.r.x[a];
+                return comm_.owner(x);
+            });
         distribute(all, springs, wall_springs, resume ? Stage::resume : Stage::fresh);
         if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());
     }
@@ -287,8 +308,8 @@ private:
             carried.swap(kept);
             for (int up = 0; up < 2; ++up) {
                 const int to = comm_.neighbour(a, up ? +1 : -1), from = comm_.neighbour(a, up ? -1 : +1);
-                const auto arrived = exchange(leaving[up], to, from);
-                const auto arrived_springs = exchange(leaving_springs[up], to, from);
+                const auto arrived = exchange(comm_.comm(), leaving[up], to, from);
+                const auto arrived_springs = exchange(comm_.comm(), leaving_springs[up], to, from);
                 states.insert(states.end(), arrived.begin(), arrived.end());
                 carried.insert(carried.end(), arrived_springs.begin(), arrived_springs.end());
             }
@@ -298,20 +319,6 @@ private:
             (cs.wall ? by_wall : by_pair).emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);
         distribute(states, by_pair, by_wall, Stage::within_step);
         ++redistributions_;
-    }
-
-    /// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL).
-    template <class T>
-    std::vector<T> exchange(const std::vector<T>& out, int to, int from) const {
-        unsigned long long sending = out.size(), receiving = 0;
-        check(MPI_Sendrecv(&sending, 1, MPI_UNSIGNED_LONG_LONG, to, 2, &receiving, 1, MPI_UNSIGNED_LONG_LONG, from, 2, comm_.comm(),
-                           MPI_STATUS_IGNORE),
-              "MPI_Sendrecv (migration counts)");
-        std::vector<T> in(receiving);
-        check(MPI_Sendrecv(out.data(), static_cast<int>(out.size() * sizeof(T)), MPI_BYTE, to, 3, in.data(),
-                           static_cast<int>(in.size() * sizeof(T)), MPI_BYTE, from, 3, comm_.comm(), MPI_STATUS_IGNORE),
-              "MPI_Sendrecv (migration)");
-        return in;
     }
 
     /// This rank's engine on the particles of `all` it owns and the ghosts of its new halo, with

@@ -6,6 +6,7 @@
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -19,23 +20,39 @@
 
 namespace micromacro::mpi {
 
+/// The extent of the first `count` particles of `p`, [min (x - r), max (x + r)] per axis, over
+/// every rank of `over` (MPI_COMM_NULL: this rank's alone); infinite bounds when there are none.
+template <int dim, class Particles>
+std::pair<Vec<dim>, Vec<dim>> particle_extent(const Particles& p, std::size_t count, MPI_Comm over) {
+    std::array<double, 2 * dim> extent;  // -lo, then hi: one MPI_MAX
+    extent.fill(-std::numeric_limits<double>::infinity());
+    for (std::size_t i = 0; i < count; ++i)
+        for (int a = 0; a < dim; ++a) {
+            const double x = p.position()[i][a], r = p.radius()[i];
+            extent[a] = std::max(extent[a], -(x - r));
+            extent[dim + a] = std::max(extent[dim + a], x + r);
+        }
+    if (over != MPI_COMM_NULL)
+        check(MPI_Allreduce(MPI_IN_PLACE, extent.data(), 2 * dim, MPI_DOUBLE, MPI_MAX, over), "MPI_Allreduce (extent)");
+    Vec<dim> lo, hi;
+    for (int a = 0; a < dim; ++a) lo[a] = -extent[a], hi[a] = extent[dim + a];
+    return {lo, hi};
+}
+
 /// The box the ranks split: the scene's, or for a scene without bounds (walls alone, as the
 /// biaxial test's), the particles' extent at the start; particles that leave it later belong to
-/// the end slabs (CartesianSplit::slab).
+/// the end slabs (CartesianSplit::slab). `shares`: the communicator over which the particles are
+/// shared out (their extent is taken over all of them), or MPI_COMM_NULL when `scene` holds them
+/// all.
 template <class Sim>
-Domain<Sim::dimension> split_box(const Sim& whole) {
+Domain<Sim::dimension> split_box(const Sim& scene, MPI_Comm shares = MPI_COMM_NULL) {
     constexpr int dim = Sim::dimension;
-    const Domain<dim>& d = whole.domain();
+    const Domain<dim>& d = scene.domain();
     bool bounded = true;
     for (int a = 0; a < dim; ++a) bounded = bounded && d.hi()[a] > d.lo()[a];
-    const auto& p = whole.particles();
-    if (bounded || p.size() == 0) return d;
-    Vec<dim> lo = Vec<dim>::Constant(std::numeric_limits<double>::infinity()), hi = -lo;
-    for (std::size_t i = 0; i < p.size(); ++i) {
-        const Vec<dim> x = convert<double>(p.position()[i]);
-        lo = lo.cwiseMin(Vec<dim>(x.array() - double(p.radius()[i])));
-        hi = hi.cwiseMax(Vec<dim>(x.array() + double(p.radius()[i])));
-    }
+    if (bounded) return d;
+    const auto [lo, hi] = particle_extent<dim>(scene.particles(), scene.particles().size(), shares);
+    if (!(lo[0] < std::numeric_limits<double>::infinity())) return d;  // no particles: CartesianSplit refuses it
     std::array<bool, dim> periodic{};
     for (int a = 0; a < dim; ++a) periodic[a] = d.periodic(a);
     return Domain<dim>(lo, hi, periodic);
@@ -58,17 +75,7 @@ void follow_extent(CartesianComm<dim>& comm, const Particles& p, std::size_t own
     bool any = false;
     for (bool f : follows) any = any || f;
     if (!any) return;
-    std::array<double, 2 * dim> here, all;  // -min, then max: one MPI_MAX
-    here.fill(-std::numeric_limits<double>::infinity());
-    for (std::size_t i = 0; i < owned; ++i)
-        for (int a = 0; a < dim; ++a) {
-            const double x = p.position()[i][a], r = p.radius()[i];
-            here[a] = std::max(here[a], -(x - r));
-            here[dim + a] = std::max(here[dim + a], x + r);
-        }
-    check(MPI_Allreduce(here.data(), all.data(), 2 * dim, MPI_DOUBLE, MPI_MAX, comm.comm()), "MPI_Allreduce (extent)");
-    Vec<dim> lo, hi;
-    for (int a = 0; a < dim; ++a) lo[a] = -all[a], hi[a] = all[dim + a];
+    const auto [lo, hi] = particle_extent<dim>(p, owned, comm.comm());
     comm.move_box(lo, hi, follows);
 }
 
