@@ -61,7 +61,8 @@ public:
     /// How a run takes over `whole`: `fresh` computes the first forces, `resume` keeps the forces,
     /// torques and springs of whole's last evaluation (a scene that has run, or one loaded from a
     /// state file, such as one written from whole_scene in mpi/checkpoint.hpp), so that the run
-    /// continues as whole would have.
+    /// continues as whole would have. A scene whose law, time step or skin changed since its last
+    /// evaluation would evaluate again before its next step: call its prepare() first.
     enum class Start { fresh, resume };
     /// What each rank passes: `whole`, the whole scene (the same on every rank), of which it keeps
     /// the particles it owns; or `share`, its own share of the particles (any positions: each goes
