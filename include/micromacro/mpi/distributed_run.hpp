@@ -150,6 +150,8 @@ public:
     /// An engine without particles with the scene's law, body forces and walls (as they stand
     /// now), in the whole scene's box: what mpi::whole_scene fills.
     Sim empty_scene() const { return engine(box_, local_->walls()); }
+    /// Threads for each rank's engine (BasicSimulation::set_threads): ranks x threads the cores.
+    void set_threads(int threads) { local_->set_threads(threads), threads_ = threads; }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
     /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
@@ -355,6 +357,7 @@ private:
         local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
         local_->set_first_ghost(owned_);  // two ghosts' forces are their owners' to compute
         local_->set_track_energy(false);  // the books would count the ghosts' contacts too
+        local_->set_threads(threads_);
         local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
         local_->prepare();                 // the lists (and forces, replaced below unless fresh)
         rebuilds_ = local_->neighbor_rebuilds();
@@ -388,6 +391,7 @@ private:
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts
     std::size_t owned_ = 0, rebuilds_ = 0, redistributions_ = 0;
+    int threads_ = 1;
     bool ghosts_current_ = true;  // false from a closing kick to the next refresh
     double skin_, dt_, width_ = 0.0, time_;
     std::size_t steps_;
