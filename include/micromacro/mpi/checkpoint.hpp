@@ -1,11 +1,10 @@
 #pragma once
 // Checkpoints of a scene run over MPI ranks: whole_scene() gathers the ranks' particles, their
 // last forces and torques, every pair's and wall contact's spring and the walls into one serial
-// scene on every rank, the
-// state the serial engine would hold. io::save_state writes it like any scene; loaded again, it
-// continues serially, or over any number of ranks through DistributedRun's Start::resume. So a
-// checkpoint restarts on another rank count and on one process. Every rank then holds the whole
-// scene, as every rank holds it when a run starts.
+// scene on every rank, the state the serial engine would hold. io::save_state writes it like any
+// scene; loaded again, it continues serially, or over any number of ranks through
+// DistributedRun's Start::resume. So a checkpoint restarts on another rank count and on one
+// process. Every rank then holds the whole scene, as every rank holds it when a run starts.
 #include <cstddef>
 #include <map>
 #include <utility>
