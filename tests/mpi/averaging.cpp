@@ -54,6 +54,26 @@ void compare(const mm::MicroMacro<dim>& split, const mm::MicroMacro<dim>& whole,
     BOOST_TEST(relative(split.stiffness_normal.matrix(), whole.stiffness_normal.matrix()) < round_off, what << ": C^n");
     BOOST_TEST(relative(split.stiffness_tangential.matrix(), whole.stiffness_tangential.matrix()) < round_off, what << ": C^t");
 }
+
+// compare() for both selection rules, with and without rattlers, over `region`; `seen(whole,
+// what)` gets each serial average with its description (`where` followed by the options).
+template <int dim, class Run, class Seen>
+void compare_every_option(const mm::PackingSnapshot<dim>& snapshot, Run& distributed, const mm::Region<dim>& region,
+                          bool kinetic_stress, const std::string& where, Seen&& seen) {
+    for (auto rule : {mm::SelectionRule::contact_point, mm::SelectionRule::particle_centre})
+        for (bool exclude : {false, true}) {
+            mm::AveragingOptions opt;
+            opt.rule = rule;
+            opt.exclude_rattlers = exclude;
+            opt.kinetic_stress = kinetic_stress;
+            const auto whole = mm::average(snapshot, region, opt);
+            const auto split = mm::mpi::average(distributed, region, opt);
+            const std::string what = where + (rule == mm::SelectionRule::contact_point ? ", contact points" : ", particle centres") +
+                                     (exclude ? ", rattlers left out" : "");
+            compare(split, whole, what);
+            seen(whole, what);
+        }
+}
 }  // namespace
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(averages_over_ranks_are_the_serial_averages, D, Dims) {
@@ -81,24 +101,15 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(averages_over_ranks_are_the_serial_averages, D, Di
             distributed.run(steps);
         }
         const auto snapshot = mm::take_snapshot(serial);
-        for (const auto* region : {&whole_box, &middle})
-            for (auto rule : {mm::SelectionRule::contact_point, mm::SelectionRule::particle_centre})
-                for (bool exclude : {false, true}) {
-                    mm::AveragingOptions opt;
-                    opt.rule = rule;
-                    opt.exclude_rattlers = exclude;
-                    opt.kinetic_stress = true;
-                    const auto whole = mm::average(snapshot, *region, opt);
-                    const auto split = mm::mpi::average(distributed, *region, opt);
-                    std::ostringstream what;
-                    what << dim << "D, step " << steps << (region == &whole_box ? ", whole box" : ", middle box")
-                         << (rule == mm::SelectionRule::contact_point ? ", contact points" : ", particle centres")
-                         << (exclude ? ", rattlers left out" : "");
-                    compare(split, whole, what.str());
-                    BOOST_TEST_MESSAGE(what.str() << ": " << whole.particles << " particles, " << whole.rattlers << " rattlers, "
-                                                  << whole.contacts << " contacts");
-                    if (steps == 0 && region == &whole_box) rattlers_at_start = whole.rattlers;
-                }
+        for (const auto* region : {&whole_box, &middle}) {
+            std::ostringstream where;
+            where << dim << "D, step " << steps << (region == &whole_box ? ", whole box" : ", middle box");
+            compare_every_option(snapshot, distributed, *region, true, where.str(), [&](const auto& whole, const std::string& what) {
+                BOOST_TEST_MESSAGE(what << ": " << whole.particles << " particles, " << whole.rattlers << " rattlers, " << whole.contacts
+                                        << " contacts");
+                if (steps == 0 && region == &whole_box) rattlers_at_start = whole.rattlers;
+            });
+        }
     }
     const std::size_t n = serial.particles().size();
     if constexpr (dim == 2) BOOST_TEST(rattlers_at_start == n);
@@ -121,21 +132,12 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(averages_in_a_box_of_walls_over_ranks_are_the_seri
             distributed.run(steps);
         }
         const auto snapshot = mm::take_snapshot(serial);
-        for (double margin : {0.1, 0.0})
-            for (auto rule : {mm::SelectionRule::contact_point, mm::SelectionRule::particle_centre})
-                for (bool exclude : {false, true}) {
-                    mm::AveragingOptions opt;
-                    opt.rule = rule;
-                    opt.exclude_rattlers = exclude;
-                    const auto region = mm::Region<dim>::inner(snapshot, margin);
-                    const auto whole = mm::average(snapshot, region, opt);
-                    const auto split = mm::mpi::average(distributed, region, opt);
-                    std::ostringstream what;
-                    what << dim << "D walls, step " << steps << ", margin " << margin
-                         << (rule == mm::SelectionRule::contact_point ? ", contact points" : ", particle centres")
-                         << (exclude ? ", rattlers left out" : "");
-                    compare(split, whole, what.str());
-                }
+        for (double margin : {0.1, 0.0}) {
+            std::ostringstream where;
+            where << dim << "D walls, step " << steps << ", margin " << margin;
+            compare_every_option(snapshot, distributed, mm::Region<dim>::inner(snapshot, margin), false, where.str(),
+                                 [](const auto&, const std::string&) {});
+        }
         for (const auto& c : snapshot.contacts) wall_contacts += c.wall;
     }
     BOOST_TEST(wall_contacts > 0u);

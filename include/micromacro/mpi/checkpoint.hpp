@@ -77,8 +77,7 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     Sim whole = run.empty_scene();
     auto& w = whole.particles();
     for (const auto* q : by_id) {
-        Vec<dim> x;
-        for (int a = 0; a < dim; ++a) x[a] = q->r.x[a];
+        Vec<dim> x = vector_of_record<dim>(q->r.x);
         run.box().wrap(x);  // a rank's particle may have crossed the box's end since its last redistribution
         const std::size_t i = w.add(x, q->r.radius, q->r.mass, q->r.inertia);
         for (int a = 0; a < dim; ++a) w.velocity()[i][a] = q->r.v[a];
@@ -95,10 +94,7 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     if constexpr (Sim::has_walls) {
         SpringsByPair<History> wall_spring_of;
         for (const auto& s : all_wall_springs) wall_spring_of.emplace(std::pair{s.a, s.b}, s.h);
-        whole.visit_wall_histories([&](Index i, Index w, History& h) {
-            const auto found = wall_spring_of.find(std::pair{i, w});
-            h = found == wall_spring_of.end() ? History{} : found->second;
-        });
+        restore_wall_springs(whole, wall_spring_of, [](Index i) { return i; });
         for (std::size_t k = 0; k < whole.walls().size(); ++k) whole.walls()[k].force = local.walls()[k].force;  // the last evaluation's, as the forces
     }
     for (std::size_t i = 0; i < by_id.size(); ++i) {

@@ -92,8 +92,8 @@ public:
             for (std::size_t i = 0; i < p.size(); ++i) here[0] += double(p.radius()[i]), here[2] = std::max(here[2], double(p.radius()[i]));
             check(MPI_Allreduce(here, all, 2, MPI_DOUBLE, MPI_SUM, comm_.comm()), "MPI_Allreduce (radii)");
             check(MPI_Allreduce(&here[2], &all[2], 1, MPI_DOUBLE, MPI_MAX, comm_.comm()), "MPI_Allreduce (largest radius)");
-            if (!(skin_ > 0.0)) skin_ = all[1] > 0 ? 0.2 * all[0] / all[1] : 1.0;  // default_skin over every share
-            width_ = 2.0 * all[2] + skin_;                                            // interaction_range likewise
+            if (!(skin_ > 0.0)) skin_ = default_skin(all[0], all[1]);  // over every share
+            width_ = interaction_range(all[2], skin_);
             unsigned long long mine = p.size(), before = 0;
             check(MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, parent), "MPI_Exscan (ids)");
             int parent_rank = 0;
@@ -123,9 +123,7 @@ public:
         }
         if (share)
             all = to_owners(comm_.comm(), comm_.size(), all, [&](const State& st) {
-                Vec<dim> x;
-                for (int a = 0; a < dim; ++a) x[a] = st.r.x[a];
-                return comm_.owner(x);
+                return comm_.owner(vector_of_record<dim>(st.r.x));
             });
         distribute(all, springs, wall_springs, resume ? Stage::resume : Stage::fresh);
         if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());
@@ -242,7 +240,7 @@ private:
 
     void refresh_halo() {
         const auto& p = local_->particles();
-        halo_->refresh(comm_, [&](std::size_t i) { return record_of(p, i, global_[i]); });
+        halo_->refresh(comm_, [&](std::size_t i) { return motion_of(p, i); });
         const auto& ghosts = halo_->ghosts();
         for (std::size_t k = 0; k < ghosts.size(); ++k) write_motion(owned_ + k, ghosts[k]);
         ghosts_current_ = true;
@@ -334,9 +332,7 @@ private:
         std::vector<ParticleRecord> owned;
         std::vector<const State*> own_states;
         for (const State& s : all) {
-            Vec<dim> x;
-            for (int a = 0; a < dim; ++a) x[a] = s.r.x[a];
-            if (!comm_.split().owns(x)) continue;
+            if (!comm_.split().owns(vector_of_record<dim>(s.r.x))) continue;
             owned.push_back(s.r);
             own_states.push_back(&s);
         }
@@ -345,9 +341,7 @@ private:
         global_.clear();
         for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
             for (const ParticleRecord& r : *set) {
-                Vec<dim> x;
-                for (int a = 0; a < dim; ++a) x[a] = r.x[a];
-                const std::size_t i = local_->particles().add(x, r.radius, r.mass, r.inertia);
+                const std::size_t i = local_->particles().add(vector_of_record<dim>(r.x), r.radius, r.mass, r.inertia);
                 write_motion(i, r);
                 global_.push_back(r.id);
             }
@@ -374,11 +368,7 @@ private:
             p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
         }
         restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
-        if constexpr (Sim::has_walls)
-            local_->visit_wall_histories([&](Index i, Index w, History& h) {
-                const auto found = wall_springs.find(std::pair{global_id(i), w});
-                h = found == wall_springs.end() ? History{} : found->second;
-            });
+        if constexpr (Sim::has_walls) restore_wall_springs(*local_, wall_springs, [&](Index i) { return global_id(i); });
     }
 
     CartesianComm<dim> comm_;

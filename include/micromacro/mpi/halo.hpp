@@ -63,6 +63,13 @@ std::array<double, 3> record_angular(const Angular<dim>& w) {
     if constexpr (dim == 2) return {0.0, 0.0, w};
     else return {w[0], w[1], w[2]};
 }
+/// A record's position or velocity as a vector.
+template <int dim>
+Vec<dim> vector_of_record(const std::array<double, 3>& v) {
+    Vec<dim> x;
+    for (int a = 0; a < dim; ++a) x[a] = v[a];
+    return x;
+}
 template <int dim>
 Angular<dim> angular_of_record(const std::array<double, 3>& w) {
     if constexpr (dim == 2) return w[2];
@@ -79,6 +86,17 @@ ParticleRecord record_of(const Particles<dim, true, Real>& p, std::size_t i, Ind
             record_vector<dim>(convert<double>(p.position()[i])),
             record_vector<dim>(convert<double>(p.velocity()[i])),
             record_angular<dim>(convert<double>(p.template get<field::AngularVelocity>()[i]))};
+}
+
+/// Particle i's motion as a refresh sends it, read from the arrays (no radius, mass or id).
+template <int dim, class Real>
+Motion<dim> motion_of(const Particles<dim, true, Real>& p, std::size_t i) {
+    Motion<dim> m;
+    const Vec<dim> x = convert<double>(p.position()[i]), v = convert<double>(p.velocity()[i]);
+    for (int a = 0; a < dim; ++a) m.x[a] = x[a], m.v[a] = v[a];
+    const auto w = record_angular<dim>(convert<double>(p.template get<field::AngularVelocity>()[i]));
+    for (std::size_t a = 0; a < m.w.size(); ++a) m.w[a] = w[3 - m.w.size() + a];
+    return m;
 }
 
 namespace halo_detail {
@@ -139,18 +157,18 @@ public:
     /// (sent as Motion):
     /// `owned` lists the same particles in the same order as when the halo was built.
     void refresh(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned) {
-        refresh(comm, [&](std::size_t k) { return owned[k]; });
+        refresh(comm, [&](std::size_t k) { return Motion<dim>::of(owned[k]); });
     }
-    /// The same with owned particle k's present state from `owned(k)`, so that only the particles
-    /// sent are read.
+    /// The same with owned particle k's present motion from `owned(k)` (motion_of), so that only
+    /// the particles sent are read, and only their motion.
     template <class Owned>
-        requires std::is_invocable_r_v<ParticleRecord, Owned, std::size_t>
+        requires std::is_invocable_r_v<Motion<dim>, Owned, std::size_t>
     void refresh(const CartesianComm<dim>& comm, Owned&& owned) {
         for (const Swap& s : swaps_) {
             std::vector<Motion<dim>> out;
             out.reserve(s.sent.size());
             for (const std::size_t k : s.sent) {
-                out.push_back(Motion<dim>::of(k < owned_count_ ? owned(k) : ghosts_[k - owned_count_]));
+                out.push_back(k < owned_count_ ? owned(k) : Motion<dim>::of(ghosts_[k - owned_count_]));
                 out.back().x[s.axis] += s.shift;
             }
             const auto in = halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction),

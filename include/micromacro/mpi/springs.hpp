@@ -35,4 +35,14 @@ void restore_springs(Sim& sim, const SpringsByPair<typename Sim::History>& sprin
     });
 }
 
+/// Every candidate wall contact's spring of `sim` from `springs`, keyed by (global id of the
+/// particle, wall); a contact without one starts anew.
+template <class Sim, class GlobalId>
+void restore_wall_springs(Sim& sim, const SpringsByPair<typename Sim::History>& springs, GlobalId&& global_id) {
+    sim.visit_wall_histories([&](Index i, Index w, typename Sim::History& h) {
+        const auto found = springs.find(std::pair{global_id(i), w});
+        h = found == springs.end() ? typename Sim::History{} : found->second;
+    });
+}
+
 }  // namespace micromacro::mpi
