@@ -23,6 +23,11 @@
 
 namespace fs = std::filesystem;
 
+// The cases labelled "long", the two-sided preparation and the Hertz-Mindlin law, take half of
+// this program's time; the sanitizer build leaves them out (MICROMACRO_LONG_TESTS in
+// tests/CMakeLists.txt), where the law's own tests (physics/hertz_mindlin.cpp) and the other cases
+// here still run.
+
 namespace {
 const mmtest::WorkFolder work_folder("micromacro_biaxial_test");  // removed when the test process ends
 const fs::path& work = work_folder.path;
@@ -392,7 +397,7 @@ BOOST_AUTO_TEST_CASE(triaxial_box) {
 // too, by about as much as the upper ones (the same push on the same packing from either side);
 // the prepared box holds p on every wall, the lower walls then stay where the preparation left
 // them, and the strain counts from the prepared box.
-BOOST_AUTO_TEST_CASE(both_walls_prepare) {
+BOOST_AUTO_TEST_CASE(both_walls_prepare, *boost::unit_test::label("long")) {
     for (const int dim : {2, 3}) {
         const auto dir = work / ("both_walls_" + std::to_string(dim));
         const auto r = run("--dim " + std::to_string(dim) + " --preset quick --prepare-walls both --quiet --out " + dir.string());
@@ -421,7 +426,7 @@ BOOST_AUTO_TEST_CASE(both_walls_prepare) {
 // each contact's own stiffnesses: Mindlin's k_t / k_n is 2 (1 - nu) / (2 - nu) at every overlap
 // (between particles and on a wall alike), so the exact identities of the linear law's tests hold
 // with that ratio in place of k_t / k.
-BOOST_AUTO_TEST_CASE(hertz_mindlin_law) {
+BOOST_AUTO_TEST_CASE(hertz_mindlin_law, *boost::unit_test::label("long")) {
     const double nu = 0.25, alpha = 2 * (1 - nu) / (2 - nu);
     for (const int dim : {2, 3}) {
         const auto dir = work / ("hertz" + std::to_string(dim));
