@@ -213,13 +213,15 @@ private:
         }, forces_);
     }
 
-    void write_motion(std::size_t i, const ParticleRecord& r) {
+    void write_motion(std::size_t i, const Motion<dim>& m) {
         auto& p = local_->particles();
         for (int a = 0; a < dim; ++a) {
-            p.position()[i][a] = r.x[a];
-            p.velocity()[i][a] = r.v[a];
+            p.position()[i][a] = m.x[a];
+            p.velocity()[i][a] = m.v[a];
         }
-        p.template get<field::AngularVelocity>()[i] = angular_of_record<dim>(r.w);
+        std::array<double, 3> w{};
+        std::copy(m.w.begin(), m.w.end(), w.end() - m.w.size());  // 2D: z alone, as in a record
+        p.template get<field::AngularVelocity>()[i] = angular_of_record<dim>(w);
     }
 
     /// After a particle pass: the ghosts from their owners' present state, or, once a particle
@@ -238,11 +240,12 @@ private:
         refresh_halo();
     }
 
+    /// Straight from the owners' engine arrays into the ghosts' (the halo's own records stay
+    /// as at its build).
     void refresh_halo() {
-        const auto& p = local_->particles();
-        halo_->refresh(comm_, [&](std::size_t i) { return motion_of(p, i); });
-        const auto& ghosts = halo_->ghosts();
-        for (std::size_t k = 0; k < ghosts.size(); ++k) write_motion(owned_ + k, ghosts[k]);
+        auto& p = local_->particles();
+        halo_->refresh(comm_, [&](std::size_t k) { return motion_of(p, k); },
+                       [&](std::size_t g, const Motion<dim>& m) { write_motion(owned_ + g, m); });
         ghosts_current_ = true;
     }
 
@@ -342,7 +345,7 @@ private:
         for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
             for (const ParticleRecord& r : *set) {
                 const std::size_t i = local_->particles().add(vector_of_record<dim>(r.x), r.radius, r.mass, r.inertia);
-                write_motion(i, r);
+                write_motion(i, Motion<dim>::of(r));
                 global_.push_back(r.id);
             }
         owned_ = owned.size();

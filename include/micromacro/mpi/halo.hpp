@@ -102,6 +102,15 @@ Motion<dim> motion_of(const Particles<dim, true, Real>& p, std::size_t i) {
 namespace halo_detail {
 /// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL);
 /// `expected`: the count that comes, when known (a refresh), else it is sent first.
+/// The same into `in`, which the caller sized to the count that comes (a refresh's buffers, kept
+/// from step to step).
+template <class T>
+void shift_into(MPI_Comm comm, const std::vector<T>& out, int to, int from, std::vector<T>& in) {
+    const int out_bytes = static_cast<int>(out.size() * sizeof(T));
+    const int in_bytes = static_cast<int>(in.size() * sizeof(T));
+    check(MPI_Sendrecv(out.data(), out_bytes, MPI_BYTE, to, 1, in.data(), in_bytes, MPI_BYTE, from, 1, comm, MPI_STATUS_IGNORE),
+          "MPI_Sendrecv (halo particles)");
+}
 template <class T>
 std::vector<T> shift(MPI_Comm comm, const std::vector<T>& out, int to, int from, long long expected = -1) {
     unsigned long long sending = out.size(), receiving = expected < 0 ? 0 : static_cast<unsigned long long>(expected);
@@ -110,10 +119,7 @@ std::vector<T> shift(MPI_Comm comm, const std::vector<T>& out, int to, int from,
                            MPI_STATUS_IGNORE),
               "MPI_Sendrecv (halo counts)");
     std::vector<T> in(receiving);
-    const int out_bytes = static_cast<int>(out.size() * sizeof(T));
-    const int in_bytes = static_cast<int>(in.size() * sizeof(T));
-    check(MPI_Sendrecv(out.data(), out_bytes, MPI_BYTE, to, 1, in.data(), in_bytes, MPI_BYTE, from, 1, comm, MPI_STATUS_IGNORE),
-          "MPI_Sendrecv (halo particles)");
+    shift_into(comm, out, to, from, in);
     return in;
 }
 }  // namespace halo_detail
@@ -164,16 +170,26 @@ public:
     template <class Owned>
         requires std::is_invocable_r_v<Motion<dim>, Owned, std::size_t>
     void refresh(const CartesianComm<dim>& comm, Owned&& owned) {
+        refresh(comm, [&](std::size_t k) { return k < owned_count_ ? owned(k) : Motion<dim>::of(ghosts_[k - owned_count_]); },
+                [&](std::size_t g, const Motion<dim>& m) { m.write_to(ghosts_[g]); });
+    }
+    /// The same where the ghosts live elsewhere (an engine's arrays, the owned particles followed by
+    /// the ghosts in the order of ghosts()): `read(k)` is the present motion of particle k in that
+    /// numbering, owned or ghost, and `write(g, m)` stores ghost g's. This form leaves ghosts() as
+    /// it was.
+    template <class Read, class Write>
+        requires std::is_invocable_r_v<Motion<dim>, Read, std::size_t> && std::is_invocable_v<Write, std::size_t, const Motion<dim>&>
+    void refresh(const CartesianComm<dim>& comm, Read&& read, Write&& write) {
         for (const Swap& s : swaps_) {
-            std::vector<Motion<dim>> out;
-            out.reserve(s.sent.size());
+            sent_.clear();
             for (const std::size_t k : s.sent) {
-                out.push_back(k < owned_count_ ? owned(k) : Motion<dim>::of(ghosts_[k - owned_count_]));
-                out.back().x[s.axis] += s.shift;
+                sent_.push_back(read(k));
+                sent_.back().x[s.axis] += s.shift;
             }
-            const auto in = halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction),
-                                               static_cast<long long>(s.received_count));
-            for (std::size_t k = 0; k < in.size(); ++k) in[k].write_to(ghosts_[s.received_begin + k]);
+            received_.resize(s.received_count);
+            halo_detail::shift_into(comm.comm(), sent_, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction),
+                                    received_);
+            for (std::size_t k = 0; k < received_.size(); ++k) write(s.received_begin + k, received_[k]);
         }
     }
 
@@ -232,6 +248,7 @@ private:
     std::vector<Swap> swaps_;
     std::vector<ParticleRecord> ghosts_;
     std::size_t owned_count_ = 0;
+    std::vector<Motion<dim>> sent_, received_;  // a refresh's buffers, kept from step to step
 };
 
 }  // namespace micromacro::mpi
