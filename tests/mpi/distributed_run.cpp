@@ -16,6 +16,7 @@
 #include <random>
 
 #include <micromacro/mpi/distributed_run.hpp>
+#include <micromacro/mpi/energy.hpp>
 
 #include "support/expect_error.hpp"
 #include "support/mpi_lattice.hpp"
@@ -156,6 +157,19 @@ std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::
             BOOST_TEST(du < round_off, "rank " << rank << ", step " << steps << ": wall speeds by " << du);
             BOOST_TEST(dfw < round_off, "rank " << rank << ", step " << steps << ": wall forces by " << dfw);
         }
+        // The energies of the whole scene, each part against the serial one relative to the
+        // total (kinetic energy is a small part of it in a packing this still).
+        const mm::EnergyState e = mm::mpi::energy(distributed), es = serial.energy();
+        const double parts[][2] = {{e.kinetic_translational, es.kinetic_translational}, {e.kinetic_rotational, es.kinetic_rotational},
+                                   {e.kinetic_walls, es.kinetic_walls},                 {e.elastic_normal, es.elastic_normal},
+                                   {e.elastic_tangential, es.elastic_tangential},       {e.gravitational, es.gravitational}};
+        double de = 0.0;
+        for (const auto& part : parts) de = std::max(de, std::abs(part[0] - part[1]) / es.total());
+        BOOST_TEST_MESSAGE("energies: " << de << " of the total " << es.total() << " J (elastic tangential " << es.elastic_tangential
+                                        << ", kinetic " << es.kinetic() << ")");
+        BOOST_TEST_REQUIRE(es.total() > 0.0);
+        if (mmtest::world_size() == 1 && threads == 1) BOOST_TEST(de == 0.0, "one rank, energies, step " << steps);
+        BOOST_TEST(de < round_off, "rank " << rank << ", step " << steps << ": energies by " << de << " of the total");
         serial.for_each_contact([&](const auto& c) {
             ++contacts;
             sliding += c.sliding;

@@ -218,7 +218,7 @@ public:
     // ---- state and analysis ------------------------------------------------------------------
     const EnergyBooks& books() const { return books_; }
     double initial_energy() const { return initial_energy_; }
-
+    /// The stored energies (with ghosts: the own particles', half of each contact with a ghost).
     EnergyState energy() const;
 
     /// kinetic + potential + dissipated - work_in - initial, relative to the initial energy

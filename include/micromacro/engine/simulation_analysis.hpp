@@ -12,13 +12,17 @@ namespace micromacro {
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::energy() const -> EnergyState {
+    // With ghosts (set_first_ghost), this process's part of the whole: its own particles, and
+    // half of each contact with a ghost (the ghost's owner counts the other half).
     EnergyState e;
-    e.kinetic_translational = particles_.translational_kinetic_energy();
-    e.kinetic_rotational = particles_.rotational_kinetic_energy();
+    const std::size_t own = std::min(first_ghost_, particles_.size());
+    e.kinetic_translational = particles_.translational_kinetic_energy(own);
+    e.kinetic_rotational = particles_.rotational_kinetic_energy(own);
     if constexpr (has_walls) e.kinetic_walls = walls_.kinetic_energy();
     for_each_contact([&](const ContactView<dim>& c) {
-        e.elastic_normal += c.normal_energy;
-        e.elastic_tangential += c.tangential_energy;
+        const double weight = c.wall || std::max(c.i, c.j) < own ? 1.0 : 0.5;
+        e.elastic_normal += weight * c.normal_energy;
+        e.elastic_tangential += weight * c.tangential_energy;
     });
     std::apply([&](const auto&... f) { ((e.gravitational += gravitational_energy(f)), ...); }, body_forces_);
     return e;

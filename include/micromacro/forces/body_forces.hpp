@@ -3,7 +3,9 @@
 // when energy is tracked, books what it dissipates; a policy with a potential reports it. The
 // engine applies them after the contact and wall forces, in the order the scene lists them; a
 // policy whose apply() takes an AffineField receives the mean flow of the scene's walls with it.
+#include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "micromacro/core/affine_field.hpp"
@@ -153,10 +155,12 @@ struct Gravity {
         const Vec<dim, Real> stored_g = convert<Real>(g);
         for (std::size_t i = 0; i < p.size(); ++i) f[i] += m[i] * stored_g;
     }
+    /// Over the first `count` particles (all by default).
     template <bool rot, class Real>
-    double potential_energy(const Particles<dim, rot, Real>& p) const {
+    double potential_energy(const Particles<dim, rot, Real>& p, std::size_t count = std::numeric_limits<std::size_t>::max()) const {
         double u = 0.0;
-        for (std::size_t i = 0; i < p.size(); ++i) u -= double(p.mass()[i]) * g.dot(convert<double>(p.position()[i]));
+        const std::size_t n = std::min(count, p.size());
+        for (std::size_t i = 0; i < n; ++i) u -= double(p.mass()[i]) * g.dot(convert<double>(p.position()[i]));
         return u;
     }
 };

@@ -13,6 +13,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <numbers>
 #include <type_traits>
 #include <vector>
@@ -82,17 +83,19 @@ public:
         return mobility;
     }
 
-    /// sum 1/2 m v^2.
-    double translational_kinetic_energy() const {
+    /// sum 1/2 m v^2 over the first `count` particles (all by default).
+    double translational_kinetic_energy(std::size_t count = std::numeric_limits<std::size_t>::max()) const {
         double e = 0.0;
-        for (std::size_t i = 0; i < size(); ++i) e += 0.5 * double(mass_[i]) * convert<double>(velocity_[i]).squaredNorm();
+        const std::size_t n = std::min(count, size());
+        for (std::size_t i = 0; i < n; ++i) e += 0.5 * double(mass_[i]) * convert<double>(velocity_[i]).squaredNorm();
         return e;
     }
-    /// sum 1/2 I w^2 (0 without rotation).
-    double rotational_kinetic_energy() const {
+    /// sum 1/2 I w^2 (0 without rotation) over the first `count` particles (all by default).
+    double rotational_kinetic_energy(std::size_t count = std::numeric_limits<std::size_t>::max()) const {
         double e = 0.0;
+        const std::size_t n = std::min(count, size());
         if constexpr (with_rotation)
-            for (std::size_t i = 0; i < size(); ++i)
+            for (std::size_t i = 0; i < n; ++i)
                 e += 0.5 * double(inertia_[i]) * DimTraits<dim>::squared_norm(convert<double>(angular_velocity_[i]));
         return e;
     }
