@@ -100,10 +100,9 @@ Motion<dim> motion_of(const Particles<dim, true, Real>& p, std::size_t i) {
 }
 
 namespace halo_detail {
-/// Sends `out` to rank `to` and returns what rank `from` sends (either may be MPI_PROC_NULL);
-/// `expected`: the count that comes, when known (a refresh), else it is sent first.
-/// The same into `in`, which the caller sized to the count that comes (a refresh's buffers, kept
-/// from step to step).
+/// Sends `out` to rank `to` and receives what rank `from` sends (either may be MPI_PROC_NULL)
+/// into `in`, which the caller sized to the count that comes (a refresh's buffers, kept from
+/// step to step).
 template <class T>
 void shift_into(MPI_Comm comm, const std::vector<T>& out, int to, int from, std::vector<T>& in) {
     const int out_bytes = static_cast<int>(out.size() * sizeof(T));
@@ -111,6 +110,8 @@ void shift_into(MPI_Comm comm, const std::vector<T>& out, int to, int from, std:
     check(MPI_Sendrecv(out.data(), out_bytes, MPI_BYTE, to, 1, in.data(), in_bytes, MPI_BYTE, from, 1, comm, MPI_STATUS_IGNORE),
           "MPI_Sendrecv (halo particles)");
 }
+/// The same returning what comes; `expected`: its count, when known (a refresh), else it is
+/// sent first.
 template <class T>
 std::vector<T> shift(MPI_Comm comm, const std::vector<T>& out, int to, int from, long long expected = -1) {
     unsigned long long sending = out.size(), receiving = expected < 0 ? 0 : static_cast<unsigned long long>(expected);
