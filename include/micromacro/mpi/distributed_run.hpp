@@ -219,9 +219,7 @@ private:
             p.position()[i][a] = m.x[a];
             p.velocity()[i][a] = m.v[a];
         }
-        std::array<double, 3> w{};
-        std::copy(m.w.begin(), m.w.end(), w.end() - m.w.size());  // 2D: z alone, as in a record
-        p.template get<field::AngularVelocity>()[i] = angular_of_record<dim>(w);
+        p.template get<field::AngularVelocity>()[i] = m.angular();
     }
 
     /// After a particle pass: the ghosts from their owners' present state, or, once a particle

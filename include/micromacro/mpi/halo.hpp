@@ -46,6 +46,11 @@ struct Motion {
         for (std::size_t a = 0; a < m.w.size(); ++a) m.w[a] = r.w[3 - m.w.size() + a];
         return m;
     }
+    /// The angular velocity as the engine stores it.
+    Angular<dim> angular() const {
+        if constexpr (dim == 2) return w[0];
+        else return Vec<3>(w[0], w[1], w[2]);
+    }
     void write_to(ParticleRecord& r) const {
         for (int a = 0; a < dim; ++a) r.x[a] = x[a], r.v[a] = v[a];
         for (std::size_t a = 0; a < w.size(); ++a) r.w[3 - w.size() + a] = w[a];
@@ -164,20 +169,15 @@ public:
     /// (sent as Motion):
     /// `owned` lists the same particles in the same order as when the halo was built.
     void refresh(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned) {
-        refresh(comm, [&](std::size_t k) { return Motion<dim>::of(owned[k]); });
-    }
-    /// The same with owned particle k's present motion from `owned(k)` (motion_of), so that only
-    /// the particles sent are read, and only their motion.
-    template <class Owned>
-        requires std::is_invocable_r_v<Motion<dim>, Owned, std::size_t>
-    void refresh(const CartesianComm<dim>& comm, Owned&& owned) {
-        refresh(comm, [&](std::size_t k) { return k < owned_count_ ? owned(k) : Motion<dim>::of(ghosts_[k - owned_count_]); },
+        refresh(comm,
+                [&](std::size_t k) { return Motion<dim>::of(k < owned_count_ ? owned[k] : ghosts_[k - owned_count_]); },
                 [&](std::size_t g, const Motion<dim>& m) { m.write_to(ghosts_[g]); });
     }
-    /// The same where the ghosts live elsewhere (an engine's arrays, the owned particles followed by
-    /// the ghosts in the order of ghosts()): `read(k)` is the present motion of particle k in that
-    /// numbering, owned or ghost, and `write(g, m)` stores ghost g's. This form leaves ghosts() as
-    /// it was.
+    /// The same where the particles live elsewhere (an engine's arrays, the owned particles
+    /// followed by the ghosts in the order of ghosts()), so that only the particles sent are read,
+    /// and only their motion: `read(k)` is the present motion of particle k in that numbering,
+    /// owned or ghost (motion_of), and `write(g, m)` stores ghost g's. This form leaves ghosts()
+    /// as it was.
     template <class Read, class Write>
         requires std::is_invocable_r_v<Motion<dim>, Read, std::size_t> && std::is_invocable_v<Write, std::size_t, const Motion<dim>&>
     void refresh(const CartesianComm<dim>& comm, Read&& read, Write&& write) {
