@@ -8,11 +8,15 @@
 #define BOOST_TEST_MODULE mpi_checkpoint
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <string>
+#include <utility>
 
 #include <micromacro/io/state.hpp>
 #include <micromacro/mpi/checkpoint.hpp>
+#include <micromacro/mpi/energy.hpp>
 
 #include "support/mpi_compare.hpp"
 #include "support/mpi_lattice.hpp"
@@ -41,7 +45,6 @@ template <class Sim>
 void check_restarts(Sim serial, const std::string& name) {
     constexpr int dim = Sim::dimension;
     const int rank = mmtest::world_rank(), ranks = mmtest::world_size();
-    serial.set_track_energy(false);  // as the distributed runs (see tests/mpi/distributed_run.cpp)
     mm::mpi::DistributedRun first(MPI_COMM_WORLD, serial);
     serial.prepare();
     first.run(50);
@@ -66,30 +69,50 @@ void check_restarts(Sim serial, const std::string& name) {
     again.run(50);
     BOOST_TEST(again.steps_done() == 100u);
     const double on_all = from_distributed(serial, again);
+    // The books went through the checkpoint: each entry against the serial run's, relative to the
+    // total energy (a book lost or counted on every rank would be off by its whole value).
+    const auto books_gap = [&](const mm::EnergyBooks& b, double initial) {
+        const mm::EnergyBooks& s = serial.books();
+        const double scale = serial.energy().total();
+        double d = std::abs(initial - serial.initial_energy());
+        for (const auto& [x, y] : {std::pair{b.dissipated_normal, s.dissipated_normal}, {b.dissipated_tangential, s.dissipated_tangential},
+                                   {b.dissipated_sliding, s.dissipated_sliding}, {b.dissipated_background, s.dissipated_background},
+                                   {b.dissipated_walls, s.dissipated_walls}, {b.work_by_walls, s.work_by_walls}})
+            d = std::max(d, std::abs(x - y));
+        return d / scale;
+    };
+    BOOST_TEST_REQUIRE(serial.books().dissipated() > 0.0);
+    const mm::OpenBooks all_books = mm::mpi::open_books(again);
+    const double books_on_all = books_gap(all_books.books, all_books.initial_energy);
     // On rank 0 alone, and in the serial engine.
-    double on_one = 0.0, in_serial = 0.0;
+    double on_one = 0.0, in_serial = 0.0, books_on_one = 0.0, books_in_serial = 0.0;
     MPI_Comm alone;
     MPI_Comm_split(MPI_COMM_WORLD, rank == 0 ? 0 : MPI_UNDEFINED, 0, &alone);
     if (rank == 0) {
         mm::mpi::DistributedRun single(alone, restored, mm::mpi::DistributedRun<Sim>::Start::resume);
         single.run(50);
         on_one = from_distributed(serial, single);
+        const mm::OpenBooks one_books = mm::mpi::open_books(single);
+        books_on_one = books_gap(one_books.books, one_books.initial_energy);
         MPI_Comm_free(&alone);
         Sim continued = restored;
-        continued.set_track_energy(false);
         continued.run(50);
         in_serial = from_serial(serial, continued);
+        books_in_serial = books_gap(continued.books(), continued.initial_energy());
     }
     BOOST_TEST_MESSAGE(dim << "D, rank " << rank << " of " << ranks << ", after 100 steps with a checkpoint at 50, largest relative "
                            << "difference from the serial run: over all ranks " << on_all << ", over rank 0 alone " << on_one
                            << ", serially " << in_serial << "; " << first.redistributions() + again.redistributions()
-                           << " redistributions");
+                           << " redistributions; books " << books_on_all << ", " << books_on_one << ", " << books_in_serial);
     // The distributed runs' round-off (tests/mpi/distributed_run.cpp): within 2e-11. A spring, a
     // force or a torque lost in the checkpoint would be off by a contact's share, orders more.
     const double round_off = 2e-11;
     BOOST_TEST(on_all < round_off);
     BOOST_TEST(on_one < round_off);
     BOOST_TEST(in_serial < round_off);
+    BOOST_TEST(books_on_all < round_off);
+    BOOST_TEST(books_on_one < round_off);
+    BOOST_TEST(books_in_serial < round_off);
     if (ranks == 1) BOOST_TEST((on_all == 0.0 && on_one == 0.0 && in_serial == 0.0), "one rank gives the serial bits");
     BOOST_TEST(first.redistributions() + again.redistributions() > 0u);
     if constexpr (Sim::has_walls) {  // the walls where the serial run's are

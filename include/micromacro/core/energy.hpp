@@ -3,6 +3,11 @@
 // state on demand; what leaves or enters the system is accumulated step by step in the books.
 // Conservation: kinetic + potential + dissipated - work_in stays at its initial value, up to
 // the integrator's error (second order in dt for both built-in integrators).
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
 namespace micromacro {
 
 /// Accumulated since the simulation was prepared.
@@ -39,11 +44,47 @@ struct EnergyBooks {
         work_by_deformation += 0.5 * (a.work_by_deformation + b.work_by_deformation);
     }
 
+    /// Adds another account scaled by `weight` entry by entry (half of a contact with a ghost).
+    void add_scaled(const EnergyBooks& o, double weight) {
+        dissipated_normal += weight * o.dissipated_normal;
+        dissipated_tangential += weight * o.dissipated_tangential;
+        dissipated_sliding += weight * o.dissipated_sliding;
+        dissipated_background += weight * o.dissipated_background;
+        dissipated_walls += weight * o.dissipated_walls;
+        work_by_walls += weight * o.work_by_walls;
+        work_by_deformation += weight * o.work_by_deformation;
+    }
+
     double work_in() const { return work_by_walls + work_by_deformation; }
 
     double dissipated() const {
         return dissipated_normal + dissipated_tangential + dissipated_sliding + dissipated_background +
                dissipated_walls;
+    }
+};
+
+namespace detail {
+/// A wall as the books saw it at the last evaluation.
+struct WallBook {
+    double offset = 0, push = 0, area = 0;
+};
+}  // namespace detail
+
+/// An engine's books as its next evaluation continues them: the sums so far, the last
+/// evaluation's bookings (the trapezoid's first half, see BasicSimulation::close_step_books), the
+/// walls as last booked, and the energy the books opened with. What an engine that takes over a
+/// scene mid-run starts from (BasicSimulation::continue_books; mpi::DistributedRun).
+struct OpenBooks {
+    EnergyBooks books, last_evaluation;
+    std::vector<detail::WallBook> walls;
+    double initial_energy = 0;
+
+    /// Nothing booked, the walls where they stand: what another process continues from while one
+    /// takes these books over.
+    OpenBooks without_bookings() const {
+        OpenBooks o{{}, {}, walls, 0.0};
+        for (auto& w : o.walls) w.push = 0.0;
+        return o;
     }
 };
 
@@ -60,5 +101,13 @@ struct EnergyState {
     double potential() const { return elastic_normal + elastic_tangential + gravitational; }
     double total() const { return kinetic() + potential(); }
 };
+
+/// kinetic + potential + dissipated - work_in - initial, relative to the initial energy (or to
+/// the work put in, if that is larger): how far the books are from closing.
+inline double energy_residual(const EnergyState& now, const EnergyBooks& books, double initial_energy) {
+    const double total = now.total() + books.dissipated() - books.work_in();
+    const double scale = std::max({std::abs(initial_energy), std::abs(books.work_in()), std::numeric_limits<double>::min()});
+    return (total - initial_energy) / scale;
+}
 
 }  // namespace micromacro

@@ -108,6 +108,7 @@ public:
     void allow_unstable_time_step(bool allow) { allow_unstable_ = allow; }
     /// Energy tracking costs a few flops per contact; on by default.
     void set_track_energy(bool on) { track_energy_ = on; }
+    bool track_energy() const { return track_energy_; }
     /// Lets prepare() accept positions coarser than 1e-6 of the smallest radius (float storage).
     void allow_coarse_positions(bool allow) {
         allow_coarse_positions_ = allow;
@@ -163,8 +164,11 @@ public:
     std::size_t spatial_sorts() const { return sorts_; }
     /// Particles from index `first` on are ghosts, copies of particles another process computes
     /// (mpi::DistributedRun): the lists leave out pairs of two ghosts and a ghost's wall contacts
-    /// (their forces are the owners'). Default: none.
-    void set_first_ghost(std::size_t first) { first_ghost_ = first; }
+    /// (their forces are the owners'), the body forces act on the own particles only, and the
+    /// energies and books count half of each pair with a ghost. `counts_walls`: whether the walls'
+    /// own energy and books (their kinetic energy, a stress-controlled wall's pressure work and
+    /// damper) are this process's to count. Default: no ghosts, the walls counted.
+    void set_first_ghost(std::size_t first, bool counts_walls = true) { first_ghost_ = first, counts_walls_ = counts_walls; }
 
     /// The spacing of representable coordinates at the farthest particle or wall from the origin
     /// (one unit in the last place): overlaps are differences of coordinates, so this is the
@@ -217,6 +221,11 @@ public:
 
     // ---- state and analysis ------------------------------------------------------------------
     const EnergyBooks& books() const { return books_; }
+    /// The books as the next evaluation continues them, and an engine taking them over (OpenBooks).
+    OpenBooks open_books() const { return {books_, previous_step_books_, wall_books_, initial_energy_}; }
+    void continue_books(OpenBooks b) {
+        books_ = b.books, previous_step_books_ = b.last_evaluation, wall_books_ = std::move(b.walls), initial_energy_ = b.initial_energy;
+    }
     double initial_energy() const { return initial_energy_; }
     /// The stored energies (with ghosts: the own particles', half of each contact with a ghost).
     EnergyState energy() const;
@@ -324,25 +333,11 @@ private:
 
     template <class F>
     double gravitational_energy(const F& force) const;
+    // The particles this process computes: all but the ghosts (set_first_ghost).
+    std::size_t owned_count() const { return std::min(first_ghost_, particles_.size()); }
 
     // The particle arrays the passes of engine/particle_pass.hpp work on.
-    detail::ParticleArrays<dim, Real> particle_arrays() {
-        detail::ParticleArrays<dim, Real> a{particles_.template get<field::Position>().data(),
-                                            particles_.template get<field::Velocity>().data(),
-                                            particles_.template get<field::Force>().data(),
-                                            particles_.template get<field::InverseMass>().data(),
-                                            nullptr, nullptr, nullptr, nullptr, nullptr, reference_.data(), particles_.size()};
-        if constexpr (rotation) {
-            a.w = particles_.template get<field::AngularVelocity>().data();
-            a.torque = particles_.template get<field::Torque>().data();
-            a.inv_I = particles_.template get<field::InverseInertia>().data();
-        }
-        if constexpr (Integrator::keeps_previous_forces) {
-            a.f_old = previous_force_.data();
-            if constexpr (rotation) a.torque_old = previous_torque_.data();
-        }
-        return a;
-    }
+    detail::ParticleArrays<dim, Real> particle_arrays();
 
     void rebuild_neighbors();
 
@@ -379,6 +374,7 @@ private:
     double sorted_gap_ = 0.0;
     bool auto_sort_ = true;
     std::size_t first_ghost_ = std::numeric_limits<std::size_t>::max();
+    bool counts_walls_ = true;
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
     bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick
 };

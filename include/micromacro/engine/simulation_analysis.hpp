@@ -12,13 +12,14 @@ namespace micromacro {
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::energy() const -> EnergyState {
-    // With ghosts (set_first_ghost), this process's part of the whole: its own particles, and
-    // half of each contact with a ghost (the ghost's owner counts the other half).
+    // With ghosts (set_first_ghost), this process's part of the whole: its own particles, half
+    // of each contact with a ghost (the ghost's owner counts the other half), the walls' kinetic
+    // energy where it counts the walls.
     EnergyState e;
-    const std::size_t own = std::min(first_ghost_, particles_.size());
+    const std::size_t own = owned_count();
     e.kinetic_translational = particles_.translational_kinetic_energy(own);
     e.kinetic_rotational = particles_.rotational_kinetic_energy(own);
-    if constexpr (has_walls) e.kinetic_walls = walls_.kinetic_energy();
+    if constexpr (has_walls) e.kinetic_walls = counts_walls_ ? walls_.kinetic_energy() : 0.0;
     for_each_contact([&](const ContactView<dim>& c) {
         const double weight = c.wall || std::max(c.i, c.j) < own ? 1.0 : 0.5;
         e.elastic_normal += weight * c.normal_energy;
@@ -30,10 +31,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::energy_residual() const -> double {
-    const double now = energy().total() + books_.dissipated() - books_.work_in();
-    const double scale = std::max({std::abs(initial_energy_), std::abs(books_.work_in()),
-                                   std::numeric_limits<double>::min()});
-    return (now - initial_energy_) / scale;
+    return micromacro::energy_residual(energy(), books_, initial_energy_);
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
@@ -83,7 +81,9 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <class F>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::gravitational_energy(const F& force) const -> double {
-    if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
+    // Of the own particles (with ghosts, see energy()), where the policy takes a count.
+    if constexpr (requires { force.potential_energy(particles_, owned_count()); }) return force.potential_energy(particles_, owned_count());
+    else if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
     else return 0.0;
 }
 

@@ -24,7 +24,8 @@ template <bool track>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::pair_forces() -> void {
     SA* torque = nullptr;
     if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
-    pair_loop_.template run<track>(contact_input(pairs_), pairs_.size(), static_cast<Index>(particles_.size()), active_threads(),
+    pair_loop_.template run<track>(contact_input(pairs_), pairs_.size(), static_cast<Index>(particles_.size()),
+                                   static_cast<Index>(owned_count()), active_threads(),
                                    domain_, law_, dt_, particles_.template get<field::Force>().data(), torque, step_books_);
 }
 
@@ -51,12 +52,20 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <bool track, class F>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::apply_body_force(const F& force) -> void {
+    // On the own particles (a ghost's force is its owner's), where the policy takes a count.
+    const std::size_t n = owned_count();
+    auto apply = [&](const auto&... field) {
+        if constexpr (requires { force.template apply<track>(particles_, step_books_, dt_, field..., n); })
+            force.template apply<track>(particles_, step_books_, dt_, field..., n);
+        else
+            force.template apply<track>(particles_, step_books_, dt_, field...);
+    };
     if constexpr (requires(AffineField<dim> field) { force.template apply<track>(particles_, step_books_, dt_, field); }) {
         AffineField<dim> field;
         if constexpr (has_walls) field = walls_.affine_field();
-        force.template apply<track>(particles_, step_books_, dt_, field);
+        apply(field);
     } else {
-        force.template apply<track>(particles_, step_books_, dt_);
+        apply();
     }
 }
 
@@ -79,7 +88,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::close_step_books() -> void {
-    if constexpr (has_walls) detail::book_wall_work(walls_, domain_, wall_books_, books_);
+    if constexpr (has_walls) detail::book_wall_work(walls_, domain_, wall_books_, books_, counts_walls_);
     books_.add_mean(step_books_, previous_step_books_);
     previous_step_books_ = step_books_;
     step_books_ = {};

@@ -1,7 +1,8 @@
 #pragma once
 // BasicSimulation's integrator stages, which the integrator policies call: kick, drift and kick
 // in one pass over the particles (engine/particle_pass.hpp), then the walls, the clock and, when
-// a particle or wall has moved far enough, the neighbour lists; and the force-change kick.
+// a particle or wall has moved far enough, the neighbour lists; and the force-change kick. The
+// passes get the arrays through particle_arrays().
 #include <algorithm>
 #include <cmath>
 #include <type_traits>
@@ -9,6 +10,25 @@
 #include "micromacro/engine/simulation.hpp"
 
 namespace micromacro {
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::particle_arrays() -> detail::ParticleArrays<dim, Real> {
+    detail::ParticleArrays<dim, Real> a{particles_.template get<field::Position>().data(),
+                                        particles_.template get<field::Velocity>().data(),
+                                        particles_.template get<field::Force>().data(),
+                                        particles_.template get<field::InverseMass>().data(),
+                                        nullptr, nullptr, nullptr, nullptr, nullptr, reference_.data(), particles_.size()};
+    if constexpr (rotation) {
+        a.w = particles_.template get<field::AngularVelocity>().data();
+        a.torque = particles_.template get<field::Torque>().data();
+        a.inv_I = particles_.template get<field::InverseInertia>().data();
+    }
+    if constexpr (Integrator::keeps_previous_forces) {
+        a.f_old = previous_force_.data();
+        if constexpr (rotation) a.torque_old = previous_torque_.data();
+    }
+    return a;
+}
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::kick_drift_kick(double h_before, double dt, double h_after, double h_closing) -> void {

@@ -51,9 +51,10 @@ template <int dim, class Real, bool rotation>
 class ThreadedPairLoop {
 public:
     /// Adds the forces and torques of the candidates in `in` (`count` of them, on `particles`
-    /// particles) into f and torque, and what they dissipate into `books`.
+    /// particles, ghosts from first_ghost on) into f and torque, and what they dissipate into
+    /// `books` (half of a pair with a ghost).
     template <bool track, class Law, class History>
-    void run(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Index particles, int shares,
+    void run(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Index particles, Index first_ghost, int shares,
              const Domain<dim>& domain, const Law& law, double dt, Vec<dim, Real>* f, Angular<dim, Real>* torque,
              EnergyBooks& books) {
         const Index n = particles;
@@ -67,10 +68,10 @@ public:
         auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
             if (periodic)
                 pair_loop<track, true, rotation>(in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t],
-                                                 owned_end, spills_[t]);
+                                                 owned_end, first_ghost, spills_[t]);
             else
                 pair_loop<track, false, rotation>(in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t],
-                                                  owned_end, spills_[t]);
+                                                  owned_end, first_ghost, spills_[t]);
         };
         if (shares == 1) {
             share(0, count, 0, n);

@@ -3,6 +3,9 @@
 // when energy is tracked, books what it dissipates; a policy with a potential reports it. The
 // engine applies them after the contact and wall forces, in the order the scene lists them; a
 // policy whose apply() takes an AffineField receives the mean flow of the scene's walls with it.
+// apply() and potential_energy() act on the first `count` particles (all by default): the engine
+// passes the particles it computes, without the ghosts of a distributed run, whose forces and
+// energies are their owners'.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -16,6 +19,9 @@
 
 namespace micromacro {
 
+/// A policy's default count: every particle.
+inline constexpr std::size_t all_particles = std::numeric_limits<std::size_t>::max();
+
 /// Background damping, Eq. 30: f_i -= gamma_b v_i, and t_i -= gamma_r omega_i when particles rotate.
 struct BackgroundDamping {
     double translational = 0.0;  ///< gamma_b (kg/s)
@@ -28,7 +34,7 @@ struct BackgroundDamping {
     }
 
     template <bool track_energy, int dim, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, std::size_t count = all_particles) const {
         // One pass, raw pointers and local constants (through the members the compiler reloaded
         // them after every store). The power gamma |v|^2 is summed as |v|^2 and |omega|^2 apart,
         // two independent chains of additions instead of one running through both loops (perf had
@@ -43,7 +49,7 @@ struct BackgroundDamping {
         }
         if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
         const Real gamma_b = static_cast<Real>(translational), gamma_r = static_cast<Real>(rotational);
-        const std::size_t n = p.size();
+        const std::size_t n = std::min(count, p.size());
         double v_sq = 0.0, w_sq = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             f[i] -= gamma_b * v[i];
@@ -74,14 +80,16 @@ struct AffineDamping {
     }
 
     template <bool track_energy, int dim, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, const AffineField<dim>& field) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, const AffineField<dim>& field,
+               std::size_t count = all_particles) const {
         if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
         auto& f = p.template get<field::Force>();
         const auto& x = p.template get<field::Position>();
         const auto& v = p.template get<field::Velocity>();
         [[maybe_unused]] const Angular<dim> spin = field.spin();
         double power = 0.0;
-        for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::size_t n = std::min(count, p.size());
+        for (std::size_t i = 0; i < n; ++i) {
             const Vec<dim> velocity = convert<double>(v[i]), relative = velocity - field.velocity(convert<double>(x[i]));
             f[i] -= convert<Real>(Vec<dim>(translational * relative));
             if constexpr (track_energy) power += translational * relative.dot(velocity);
@@ -117,7 +125,7 @@ struct LocalDamping {
     }
 
     template <bool track_energy, int dim, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, std::size_t count = all_particles) const {
         if (alpha == 0.0) return;  // listed but off: no pass
         auto& f = p.template get<field::Force>();
         const auto& v = p.template get<field::Velocity>();
@@ -129,7 +137,8 @@ struct LocalDamping {
             force = static_cast<Real>(fk - taken);
             return taken * vk;
         };
-        for (std::size_t i = 0; i < p.size(); ++i) {
+        const std::size_t n = std::min(count, p.size());
+        for (std::size_t i = 0; i < n; ++i) {
             for (int k = 0; k < dim; ++k) power += damp(f[i][k], v[i][k]);
             if constexpr (rot) {
                 auto& t = p.template get<field::Torque>()[i];
@@ -149,15 +158,15 @@ struct Gravity {
     Vec<dim> g = Vec<dim>::Zero();
 
     template <bool track_energy, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks&, double) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks&, double, std::size_t count = all_particles) const {
         auto& f = p.template get<field::Force>();
         const auto& m = p.template get<field::Mass>();
         const Vec<dim, Real> stored_g = convert<Real>(g);
-        for (std::size_t i = 0; i < p.size(); ++i) f[i] += m[i] * stored_g;
+        const std::size_t n = std::min(count, p.size());
+        for (std::size_t i = 0; i < n; ++i) f[i] += m[i] * stored_g;
     }
-    /// Over the first `count` particles (all by default).
     template <bool rot, class Real>
-    double potential_energy(const Particles<dim, rot, Real>& p, std::size_t count = std::numeric_limits<std::size_t>::max()) const {
+    double potential_energy(const Particles<dim, rot, Real>& p, std::size_t count = all_particles) const {
         double u = 0.0;
         const std::size_t n = std::min(count, p.size());
         for (std::size_t i = 0; i < n; ++i) u -= double(p.mass()[i]) * g.dot(convert<double>(p.position()[i]));

@@ -15,6 +15,7 @@
 #include "micromacro/engine/simulation.hpp"
 #include "micromacro/mpi/communicator.hpp"
 #include "micromacro/mpi/distributed_run.hpp"
+#include "micromacro/mpi/energy.hpp"
 #include "micromacro/mpi/halo.hpp"
 
 namespace micromacro::mpi {
@@ -46,8 +47,8 @@ std::vector<T> all_of(MPI_Comm comm, const std::vector<T>& mine) {
 /// particles numbered by their global ids (the numbering of the scene the run started from),
 /// their positions (in the box), velocities, angular velocities and the last forces and torques,
 /// each pair's and wall contact's spring, the walls (every rank's copy is the same) and body
-/// forces, the run's clock, time step and skin. Energy books are off (a distributed
-/// run keeps none) and so is the engine's own sorting, so that indices stay the global ids.
+/// forces, the run's clock, time step and skin, and the energy books added over the ranks
+/// (mpi::open_books). The engine's own sorting is off, so that indices stay the global ids.
 template <class Sim>
 Sim whole_scene(const DistributedRun<Sim>& run) {
     constexpr int dim = Sim::dimension;
@@ -86,8 +87,8 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     whole.set_time_step(run.time_step());
     whole.set_skin(run.skin());
     whole.set_auto_sort(false);
-    whole.set_track_energy(false);
-    whole.prepare();  // the lists; its forces and springs are replaced below
+    whole.set_track_energy(local.track_energy());
+    whole.prepare();  // the lists; its forces, springs and books are replaced below
     SpringsByPair<History> spring_of;
     for (const auto& s : all_springs) spring_of.emplace(std::pair{s.a, s.b}, s.h);
     restore_springs(whole, spring_of, [](Index i) { return i; });  // indices are the global ids
@@ -102,6 +103,7 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
         w.template get<field::Torque>()[i] = angular_of_record<dim>(by_id[i]->torque);
     }
     whole.set_clock(run.time(), run.steps_done());
+    whole.continue_books(open_books(run));
     return whole;
 }
 

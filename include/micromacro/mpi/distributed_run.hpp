@@ -21,11 +21,16 @@
 // everywhere; a wall contact's spring travels with its particle. Along an axis the scene leaves
 // unbounded (walls alone bound the biaxial test's box) the split is the particles' extent, taken
 // again at every redistribution, so that the slabs keep equal shares of a box the walls deform.
+//
+// Energy books (with the scene's set_track_energy, on by default): each rank's engine books its
+// own particles' body forces and wall contacts, half of each pair with a ghost (the ghost's owner
+// books the other half) and its share of a driven wall's work; rank 0 books the walls' own terms
+// (a stress-controlled wall's pressure work and damper). A rank's books go on in its next engine
+// at a redistribution; mpi::open_books (mpi/energy.hpp) adds them over the ranks.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <map>
 #include <optional>
 #include <tuple>
 #include <type_traits>
@@ -36,6 +41,7 @@
 
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
+#include "micromacro/core/energy.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/engine/simulation.hpp"
 #include "micromacro/mpi/communicator.hpp"
@@ -79,26 +85,22 @@ public:
         : comm_(parent, split_box(whole, input == Input::share ? parent : MPI_COMM_NULL)), box_(whole.domain()), law_(whole.law()),
           walls_(whole.walls()),
           forces_(detail::EngineParts<Sim>::forces_of(whole)), follows_(following_axes(whole)), skin_(whole.skin()),
-          dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()) {
+          dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()), track_(whole.track_energy()) {
         const auto& p = whole.particles();
         const bool resume = start == Start::resume, share = input == Input::share;
+        if (!share && steps_ > 0)  // the books of a scene that has run go on, on rank 0
+            books_at_start_ = comm_.rank() == 0 ? whole.open_books() : whole.open_books().without_bookings();
         if (resume && share)
             micromacro::detail::throw_input_error("DistributedRun: a resumed run starts from the whole scene on every rank (its springs "
                                                   "span the shares); use Input::whole, as mpi::whole_scene gives it");
+        if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());  // before an engine measures them
         Index first_id = 0;  // of this rank's share
         if (share) {
             // The skin and halo from every share's radii; the ids after the earlier ranks' shares.
-            double here[3] = {0.0, double(p.size()), 0.0}, all[3];
-            for (std::size_t i = 0; i < p.size(); ++i) here[0] += double(p.radius()[i]), here[2] = std::max(here[2], double(p.radius()[i]));
-            check(MPI_Allreduce(here, all, 2, MPI_DOUBLE, MPI_SUM, comm_.comm()), "MPI_Allreduce (radii)");
-            check(MPI_Allreduce(&here[2], &all[2], 1, MPI_DOUBLE, MPI_MAX, comm_.comm()), "MPI_Allreduce (largest radius)");
-            if (!(skin_ > 0.0)) skin_ = default_skin(all[0], all[1]);  // over every share
-            width_ = interaction_range(all[2], skin_);
-            unsigned long long mine = p.size(), before = 0;
-            check(MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, parent), "MPI_Exscan (ids)");
-            int parent_rank = 0;
-            check(MPI_Comm_rank(parent, &parent_rank), "MPI_Comm_rank");
-            first_id = parent_rank == 0 ? 0 : static_cast<Index>(before);  // MPI_Exscan leaves rank 0's undefined
+            const ShareSizes all = share_sizes(comm_.comm(), parent, p.radius());
+            if (!(skin_ > 0.0)) skin_ = default_skin(all.radius_sum, all.count);
+            width_ = interaction_range(all.largest_radius, skin_);
+            first_id = all.first_id;
         } else {
             if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
             width_ = interaction_range(p.radius(), skin_);
@@ -126,7 +128,6 @@ public:
                 return comm_.owner(vector_of_record<dim>(st.r.x));
             });
         distribute(all, springs, wall_springs, resume ? Stage::resume : Stage::fresh);
-        if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());
     }
 
     const CartesianComm<dim>& comm() const { return comm_; }
@@ -150,17 +151,37 @@ public:
     Sim empty_scene() const { return engine(box_, local_->walls()); }
     /// Threads for each rank's engine (BasicSimulation::set_threads): ranks x threads the cores.
     void set_threads(int threads) { local_->set_threads(threads), threads_ = threads; }
+    /// The contact law from now on, as a serial scene's law() changed between steps (friction
+    /// switched on after a preparation): the next step() or run() first evaluates the present
+    /// forces again with it (and with the body forces as they are then), as the serial scene's
+    /// next step does. The same law on every rank.
+    void set_law(const Law& law) {
+        law_ = law;
+        local_->law() = law;
+        law_changed_ = true;
+    }
+    /// A body force from its next evaluation on, as a serial scene's body_force<F>() = force.
+    template <class F>
+    void set_body_force(const F& force) {
+        std::get<F>(forces_) = force;
+        local_->template body_force<F>() = force;
+    }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
     /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
     std::size_t halo_bytes_per_step() const { return halo_->bytes_per_refresh(); }
     std::size_t halo_messages_per_step() const { return halo_->messages_per_refresh(comm_); }
 
-    void step() { typename Sim::IntegratorPolicy{}.step(*this, dt_); }
+    void step() {
+        evaluate_changed_law();
+        typename Sim::IntegratorPolicy{}.step(*this, dt_);
+    }
     /// `steps` steps, each closing kick merged into the next step's pass as the engine's run()
     /// does: the same bits as calling step() that often, a pass over the particles less per step.
     void run(std::size_t steps) {
-        if (steps > 0) typename Sim::IntegratorPolicy{}.run(*this, dt_, steps);
+        if (steps == 0) return;
+        evaluate_changed_law();
+        typename Sim::IntegratorPolicy{}.run(*this, dt_, steps);
     }
 
     // ---- the stages the integrator policy calls ------------------------------------------------
@@ -222,6 +243,16 @@ private:
         p.template get<field::AngularVelocity>()[i] = m.angular();
     }
 
+    /// After set_law: every rank's engine evaluates the present forces again (its prepare(); the
+    /// particles are handed out afresh at the next particle pass, as the engine rebuilt its lists).
+    void evaluate_changed_law() {
+        if (!law_changed_) return;
+        law_changed_ = false;
+        refresh_ghosts();  // the evaluation reads the ghosts' velocities
+        local_->prepare();
+        if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+    }
+
     /// After a particle pass: the ghosts from their owners' present state, or, once a particle
     /// has moved half the skin or an engine has rebuilt its lists from ghosts it integrated
     /// itself, a redistribution. Decided over every rank at once.
@@ -255,7 +286,6 @@ private:
     void redistribute() {
         const auto& p = local_->particles();
         follow_extent<dim>(comm_, p, owned_, follows_);  // where walls alone bound the box
-        const CartesianSplit<dim>& split = comm_.split();
         std::vector<State> states;
         for (std::size_t i = 0; i < owned_; ++i) {
             State s{record_of(p, i, global_[i]), {}, record_angular<dim>(p.template get<field::Torque>()[i])};
@@ -280,42 +310,7 @@ private:
             });
             walls_ = local_->walls();
         }
-        for (int a = 0; a < dim; ++a) {
-            if (split.dims[a] == 1) continue;
-            // Down (0) or up (1) one slab, across the box's end on a periodic axis; or staying.
-            std::array<std::vector<State>, 2> leaving;
-            std::array<std::vector<CarriedSpring>, 2> leaving_springs;
-            std::map<Index, int> way;
-            std::vector<State> staying;
-            for (const State& st : states) {
-                const int c = split.slab(a, st.r.x[a]);
-                if (c == split.coords[a]) {
-                    staying.push_back(st);
-                    continue;
-                }
-                // Up one slab, or across the end of a periodic axis from its last slab to its first
-                // (on an open axis of two slabs, the slab below is not the one above).
-                const bool wraps_up = split.periodic[a] && c == 0 && split.coords[a] == split.dims[a] - 1;
-                const int up = c == split.coords[a] + 1 || wraps_up ? 1 : 0;
-                leaving[up].push_back(st);
-                way[st.r.id] = up;
-            }
-            states.swap(staying);
-            std::vector<CarriedSpring> kept;
-            for (const CarriedSpring& cs : carried) {
-                const auto found = way.find(cs.carrier);
-                if (found == way.end()) kept.push_back(cs);
-                else leaving_springs[found->second].push_back(cs);
-            }
-            carried.swap(kept);
-            for (int up = 0; up < 2; ++up) {
-                const int to = comm_.neighbour(a, up ? +1 : -1), from = comm_.neighbour(a, up ? -1 : +1);
-                const auto arrived = exchange(comm_.comm(), leaving[up], to, from);
-                const auto arrived_springs = exchange(comm_.comm(), leaving_springs[up], to, from);
-                states.insert(states.end(), arrived.begin(), arrived.end());
-                carried.insert(carried.end(), arrived_springs.begin(), arrived_springs.end());
-            }
-        }
+        migrate(comm_, states, carried);
         SpringsByPair<History> by_pair, by_wall;
         for (const CarriedSpring& cs : carried)  // a pair's held twice: the first
             (cs.wall ? by_wall : by_pair).emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);
@@ -337,6 +332,8 @@ private:
             owned.push_back(s.r);
             own_states.push_back(&s);
         }
+        // Within a step this rank's books go on in its new engine; at the start, a scene's that has run.
+        std::optional<OpenBooks> books = local_ ? std::optional<OpenBooks>(local_->open_books()) : std::exchange(books_at_start_, std::nullopt);
         halo_.emplace(comm_, owned, width_);
         local_.emplace(engine(comm_.split().local_domain(), walls_));
         global_.clear();
@@ -350,11 +347,12 @@ private:
         local_->set_time_step(dt_);
         local_->set_skin(skin_);
         local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
-        local_->set_first_ghost(owned_);  // two ghosts' forces are their owners' to compute
-        local_->set_track_energy(false);  // the books would count the ghosts' contacts too
+        local_->set_first_ghost(owned_, comm_.rank() == 0);  // the walls' own books on rank 0
+        local_->set_track_energy(track_);
         local_->set_threads(threads_);
         local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
         local_->prepare();                 // the lists (and forces, replaced below unless fresh)
+        if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
         rebuilds_ = local_->neighbor_rebuilds();
         ghosts_current_ = true;
         if (stage == Stage::fresh) {
@@ -384,8 +382,11 @@ private:
     std::size_t owned_ = 0, rebuilds_ = 0, redistributions_ = 0;
     int threads_ = 1;
     bool ghosts_current_ = true;  // false from a closing kick to the next refresh
+    bool law_changed_ = false;    // set_law since the last step
     double skin_, dt_, width_ = 0.0, time_;
     std::size_t steps_;
+    bool track_;                               // energy books, as the scene's
+    std::optional<OpenBooks> books_at_start_;  // a scene's that has run (rank 0's; the others' zero)
 };
 
 }  // namespace micromacro::mpi
