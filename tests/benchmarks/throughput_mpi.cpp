@@ -32,7 +32,7 @@ struct Options {
     int dim = 2;
     std::size_t particles = 20000, steps = 200;
     double k = 1e5, kt = 2e4, mu = 0.5, gamma_n = 0.1, gamma_t = 0.02;  // throughput's defaults, the paper's
-    bool json = false;
+    bool json = false, no_energy = false;
 };
 
 template <int dim>
@@ -47,6 +47,7 @@ int run(const Options& o) {
     for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(density, r[i]));
     const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(density, r[0]));
     whole.set_time_step(tc / 50);
+    whole.set_track_energy(!o.no_energy);
     mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
     MPI_Barrier(MPI_COMM_WORLD);
     const auto start = std::chrono::steady_clock::now();
@@ -69,14 +70,15 @@ int run(const Options& o) {
     if (o.json)
         std::printf("{\"dim\": %d, \"particles\": %zu, \"steps\": %zu, \"ranks\": %d, \"split\": \"%s\", \"seconds\": %.6g, "
                     "\"particle_steps_per_second\": %.6g, \"per_rank\": %.6g, \"halo_bytes_per_particle_step\": %.4g, "
-                    "\"halo_messages_per_step\": %llu, \"imbalance\": %.4f, \"redistributions\": %zu, \"dt\": %.6g, \"skin\": %.6g}\n",
+                    "\"halo_messages_per_step\": %llu, \"imbalance\": %.4f, \"redistributions\": %zu, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s}\n",
                     dim, x.size(), o.steps, ranks, split.c_str(), seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions(),
-                    whole.time_step(), run.skin());
+                    whole.time_step(), run.skin(), o.no_energy ? "false" : "true");
     else
         std::printf("%dD frictional lattice: %zu particles on %d ranks (%s), %zu steps in %.3f s: %.3g particle-steps/s "
                     "(%.3g per rank); halo %.1f bytes per particle-step, at most %llu messages per step and rank; "
-                    "imbalance %.3f; %zu redistributions\n",
-                    dim, x.size(), ranks, split.c_str(), o.steps, seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions());
+                    "imbalance %.3f; %zu redistributions; energy books %s\n",
+                    dim, x.size(), ranks, split.c_str(), o.steps, seconds, pps, pps / ranks, halo, most[2], imbalance, run.redistributions(),
+                    o.no_energy ? "off" : "on");
     return 0;
 }
 }  // namespace
@@ -94,6 +96,7 @@ int main(int argc, char** argv) {
     app.add_option("--gamma-t", o.gamma_t, "tangential damping (kg/s)")->capture_default_str();
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
     app.add_flag("--json", o.json, "one JSON line instead of text");
+    app.add_flag("--no-energy", o.no_energy, "without the energy books (on by default, as in the serial throughput)");
     int status = 0;
     try {
         app.parse(argc, argv);

@@ -44,17 +44,6 @@ struct EnergyBooks {
         work_by_deformation += 0.5 * (a.work_by_deformation + b.work_by_deformation);
     }
 
-    /// Adds another account scaled by `weight` entry by entry (half of a contact with a ghost).
-    void add_scaled(const EnergyBooks& o, double weight) {
-        dissipated_normal += weight * o.dissipated_normal;
-        dissipated_tangential += weight * o.dissipated_tangential;
-        dissipated_sliding += weight * o.dissipated_sliding;
-        dissipated_background += weight * o.dissipated_background;
-        dissipated_walls += weight * o.dissipated_walls;
-        work_by_walls += weight * o.work_by_walls;
-        work_by_deformation += weight * o.work_by_deformation;
-    }
-
     double work_in() const { return work_by_walls + work_by_deformation; }
 
     double dissipated() const {

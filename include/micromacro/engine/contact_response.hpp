@@ -30,19 +30,20 @@ MICROMACRO_INLINE ContactForce<dim> evaluate(const Law& law, const ContactKinema
 }
 
 /// One evaluation of `law` on contact `c`, as the loops apply it; what it dissipates goes to
-/// `books` (a local copy in the pair loop, so the sums stay in registers).
+/// `books` (a local copy in the pair loop, so the sums stay in registers) times `weight` (half
+/// for a pair with a ghost, which another process evaluates too).
 template <bool track, int dim, class Law, class History>
 MICROMACRO_INLINE ContactResponse<dim> respond(const Law& law, const ContactKinematics<dim>& c, History& h, EnergyBooks& books,
-                                               bool smooth = false) {
+                                               bool smooth = false, double weight = 1.0) {
     const ContactForce<dim> f = evaluate<track>(law, c, h, smooth);
     const double viscous = f.normal.viscous, normal = f.normal.elastic + viscous;
-    if constexpr (track) books.dissipated_normal -= viscous * c.normal_velocity * c.dt;
+    if constexpr (track) books.dissipated_normal -= weight * (viscous * c.normal_velocity * c.dt);
     ContactResponse<dim> out{normal * c.normal, Vec<dim>::Zero(), normal};
     if constexpr (Law::has_tangential) {
         if (smooth) return out;
         if constexpr (track) {
-            books.dissipated_tangential += f.tangential.dissipated_viscous;
-            books.dissipated_sliding += f.tangential.dissipated_sliding;
+            books.dissipated_tangential += weight * f.tangential.dissipated_viscous;
+            books.dissipated_sliding += weight * f.tangential.dissipated_sliding;
         }
         out.force += f.tangential.force;
         out.tangential = f.tangential.force;

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 #include <vector>
 
@@ -30,7 +31,8 @@ struct Spill {
 };
 
 /// The stored arrays the pair and wall loops read, as raw pointers: the particles' (`w` null
-/// without rotation) and one contact list's (`history` null for a law without history).
+/// without rotation) and one contact list's (`history` null for a law without history); and
+/// where the ghosts begin (none by default; see pair_loop).
 template <int dim, class Real, class History>
 struct ContactLoopInput {
     const Vec<dim, Real>* x;
@@ -40,6 +42,7 @@ struct ContactLoopInput {
     const Angular<dim, Real>* w;
     const IndexPair* pair;
     History* history;
+    Index first_ghost = std::numeric_limits<Index>::max();
 };
 
 /// v_ij of Eq. 25 for the pair (i, j) with normal n, read from the stored arrays (for the passes
@@ -100,26 +103,19 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
                                         spill);
 }
 
-/// A contact's evaluation booked into an account of its own, out of the pair loop's way (a pair
-/// with a ghost, whose books count half; see pair_loop).
-template <bool track, int dim, class Law, class History>
-MICROMACRO_COLD ContactResponse<dim> respond_apart(const Law& law, const ContactKinematics<dim>& c, History& h, EnergyBooks& books) {
-    return respond<track>(law, c, h, books);
-}
-
 /// The pair loop over candidates [begin, end), adding into the force and torque arrays f and
-/// torque; a partner at or past owned_end goes to `spill`. A pair with a particle at or past
-/// first_ghost (a ghost: another process computes it too) counts half in the books. Local copies of the law, the box and
-/// the energy account: through references the compiler would reload them after every store to
-/// the forces. (Keeping i's values in registers over its run of partners was tried: more
+/// torque; a partner at or past owned_end goes to `spill`. With `weighed`, a pair with a particle
+/// at or past in.first_ghost (a ghost: another process computes the pair too) counts half in the
+/// books (a loop of its own: the weight costs up to 7% where no pair needs it). Local
+/// copies of the law, the box and the energy account: through references the compiler would
+/// reload them after every store to the forces. (Keeping i's values in registers over its run of partners was tried: more
 /// instructions and no faster, the loop runs out of registers.) A coincident pair cannot be
 /// thrown from a thread; it is recorded in `coincident` and reported after. `periodic`: whether
 /// the box has a periodic axis (else separations are plain differences).
-template <bool track, bool periodic, bool rotation, int dim, class Real, class Law, class History>
+template <bool track, bool periodic, bool rotation, bool weighed, int dim, class Real, class Law, class History>
 void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
                std::size_t begin, std::size_t end, Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque,
-               EnergyBooks& books, IndexPair& coincident, Index owned_end, Index first_ghost,
-               std::vector<Spill<dim, Real, rotation>>& spill) {
+               EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill) {
     using V = Vec<dim>;
     using SV = Vec<dim, Real>;
     constexpr bool has_history = Law::has_history;
@@ -135,7 +131,6 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
     const Domain<dim> domain = box;
     const Law law = contact_law;
     EnergyBooks account = books;
-    [[maybe_unused]] EnergyBooks ghost_pairs;  // booked whole here, halved at the end
     // Three passes per block of candidates: find the touching pairs (branch-free, the 20-30%
     // of candidates that do not touch would otherwise be a badly predicted jump), take their
     // square roots and reciprocals as Eigen packets, then compute their forces. The square
@@ -205,17 +200,13 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
                 if constexpr (has_history) return history[c];
                 else return none;
             }();
-            ContactResponse<dim> resp;
-            if (track && std::max(i, j) >= first_ghost) [[unlikely]]
-                resp = respond_apart<track>(law, kinematics, h, ghost_pairs);
-            else
-                resp = respond<track>(law, kinematics, h, account);
+            const double weight = weighed && std::max(i, j) >= in.first_ghost ? 0.5 : 1.0;
+            const ContactResponse<dim> resp = respond<track>(law, kinematics, h, account, false, weight);
             Angular<dim> arm{};
             if constexpr (rotation) arm = DimTraits<dim>::cross(n, resp.tangential);
             add_pair_force<dim, Real, rotation>(i, j, convert<Real>(resp.force), arm, ri, rj, f, torque, owned_end, spill);
         }
     }
-    if constexpr (track) account.add_scaled(ghost_pairs, 0.5);
     books = account;
 }
 

@@ -24,8 +24,9 @@ template <bool track>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::pair_forces() -> void {
     SA* torque = nullptr;
     if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
-    pair_loop_.template run<track>(contact_input(pairs_), pairs_.size(), static_cast<Index>(particles_.size()),
-                                   static_cast<Index>(owned_count()), active_threads(),
+    auto in = contact_input(pairs_);
+    in.first_ghost = static_cast<Index>(owned_count());
+    pair_loop_.template run<track>(in, pairs_.size(), static_cast<Index>(particles_.size()), active_threads(),
                                    domain_, law_, dt_, particles_.template get<field::Force>().data(), torque, step_books_);
 }
 

@@ -7,6 +7,7 @@
 // spatial order the spill lists stay short. Bitwise the same for a fixed thread count.
 #include <algorithm>
 #include <cstddef>
+#include <type_traits>
 #include <vector>
 
 #include "micromacro/core/domain.hpp"
@@ -51,10 +52,10 @@ template <int dim, class Real, bool rotation>
 class ThreadedPairLoop {
 public:
     /// Adds the forces and torques of the candidates in `in` (`count` of them, on `particles`
-    /// particles, ghosts from first_ghost on) into f and torque, and what they dissipate into
+    /// particles, ghosts from in.first_ghost on) into f and torque, and what they dissipate into
     /// `books` (half of a pair with a ghost).
     template <bool track, class Law, class History>
-    void run(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Index particles, Index first_ghost, int shares,
+    void run(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Index particles, int shares,
              const Domain<dim>& domain, const Law& law, double dt, Vec<dim, Real>* f, Angular<dim, Real>* torque,
              EnergyBooks& books) {
         const Index n = particles;
@@ -63,15 +64,17 @@ public:
         spills_.resize(shares);
         for (auto& list : spills_) list.clear();
         // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
-        // axes the separations need no minimum-image test.
-        const bool periodic = domain.any_periodic();
+        // axes the separations need no minimum-image test; without ghosts (or books) no pair is
+        // weighed for the books.
+        const bool periodic = domain.any_periodic(), ghosts = track && in.first_ghost < particles;
         auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
-            if (periodic)
-                pair_loop<track, true, rotation>(in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t],
-                                                 owned_end, first_ghost, spills_[t]);
-            else
-                pair_loop<track, false, rotation>(in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t],
-                                                  owned_end, first_ghost, spills_[t]);
+            auto loop = [&](auto periodic_box, auto weighed) {
+                pair_loop<track, decltype(periodic_box)::value, rotation, decltype(weighed)::value>(
+                    in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t]);
+            };
+            using Weighed = std::bool_constant<track>;  // false instantiates nothing new
+            if (periodic) ghosts ? loop(std::true_type{}, Weighed{}) : loop(std::true_type{}, std::false_type{});
+            else ghosts ? loop(std::false_type{}, Weighed{}) : loop(std::false_type{}, std::false_type{});
         };
         if (shares == 1) {
             share(0, count, 0, n);
