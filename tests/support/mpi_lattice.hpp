@@ -60,7 +60,9 @@ auto lattice(int per_side, double skin, double holes = 0.0, double spacing = 1.9
 // first 200 steps (Eq. 17), along the first axis the upper wall is stress-controlled (Eq. 18) at
 // about the pressure of the rows pressed into it, so that it moves; the others are fixed. The
 // walls are frictional (the scene's law), so that wall contacts hold springs too; the particles are
-// damped against the walls' mean flow (AffineDamping, as in the biaxial test). `bounded`: the
+// damped against the walls' mean flow (AffineDamping, as in the biaxial test) and pulled down the
+// last axis by gravity (too weak to change the motion much: m g is 1e-4 of a contact force, but its
+// potential energy is 1-3% of the total, which a rank counting its ghosts' would change). `bounded`: the
 // domain (open on every axis) spans the outer rows' centres, so that the rows sit on the
 // boundaries between slabs and the outer ones half outside; else it is unbounded, as the biaxial
 // test's.
@@ -72,8 +74,11 @@ auto walled_lattice(int per_side, double skin, bool bounded) {
     const mm::Domain<dim> domain =
         bounded ? mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant((per_side - 1) * spacing), {}) : mm::Domain<dim>();
     const double gamma = 1e-3;  // kg/s: changes the velocities by about 1e-2 over 200 steps
-    mm::BasicSimulation<dim, double, mm::FrictionalLinear, mm::Walls<dim>, mm::VelocityVerlet, mm::LinkedCells, mm::AffineDamping> sim(
-        lattice_law, domain, walls, {}, {}, mm::AffineDamping(gamma, 0.4 * gamma * 1e-6));
+    mm::Gravity<dim> gravity;
+    gravity.g[dim - 1] = -9.81;
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear, mm::Walls<dim>, mm::VelocityVerlet, mm::LinkedCells, mm::AffineDamping,
+                        mm::Gravity<dim>>
+        sim(lattice_law, domain, walls, {}, {}, mm::AffineDamping(gamma, 0.4 * gamma * 1e-6), gravity);
     fill_lattice<dim>(sim, per_side, skin, 0.0, spacing);
     for (auto& x : sim.particles().position())  // the periodic lattice's wrapped jitter back next to its row
         for (int a = 0; a < dim; ++a)
