@@ -106,10 +106,10 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
 /// The pair loop over candidates [begin, end), adding into the force and torque arrays f and
 /// torque; a partner at or past owned_end goes to `spill`. With `weighed`, a pair with a particle
 /// at or past in.first_ghost (a ghost: another process computes the pair too) counts half in the
-/// books (a loop of its own: the weight costs up to 7% where no pair needs it). Local
-/// copies of the law, the box and the energy account: through references the compiler would
-/// reload them after every store to the forces. (Keeping i's values in registers over its run of partners was tried: more
-/// instructions and no faster, the loop runs out of registers.) A coincident pair cannot be
+/// books (a loop of its own: the weight costs up to 7% where no pair needs it). Local copies of
+/// the law, the box and the energy account: through references the compiler would reload them
+/// after every store to the forces. (Keeping i's values in registers over its run of partners was
+/// tried: more instructions and no faster, the loop runs out of registers.) A coincident pair cannot be
 /// thrown from a thread; it is recorded in `coincident` and reported after. `periodic`: whether
 /// the box has a periodic axis (else separations are plain differences).
 template <bool track, bool periodic, bool rotation, bool weighed, int dim, class Real, class Law, class History>

@@ -333,7 +333,8 @@ private:
             own_states.push_back(&s);
         }
         // Within a step this rank's books go on in its new engine; at the start, a scene's that has run.
-        std::optional<OpenBooks> books = local_ ? std::optional<OpenBooks>(local_->open_books()) : std::exchange(books_at_start_, std::nullopt);
+        std::optional<OpenBooks> books = std::exchange(books_at_start_, std::nullopt);
+        if (local_) books = local_->open_books();
         halo_.emplace(comm_, owned, width_);
         local_.emplace(engine(comm_.split().local_domain(), walls_));
         global_.clear();

@@ -115,7 +115,8 @@ ShareSizes share_sizes(MPI_Comm comm, MPI_Comm parent, const Radii& radius) {
     check(MPI_Exscan(&mine, &before, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, parent), "MPI_Exscan (ids)");
     int parent_rank = 0;
     check(MPI_Comm_rank(parent, &parent_rank), "MPI_Comm_rank");
-    return {all[0], all[1], all[2], parent_rank == 0 ? Index(0) : static_cast<Index>(before)};  // MPI_Exscan leaves rank 0's undefined
+    const Index first = parent_rank == 0 ? 0 : static_cast<Index>(before);  // MPI_Exscan leaves rank 0's undefined
+    return {all[0], all[1], all[2], first};
 }
 
 }  // namespace micromacro::mpi
