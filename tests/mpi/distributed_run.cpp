@@ -312,6 +312,20 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(shares_of_the_particles_give_the_serial_state, D, 
     compare_with_serial(mmtest::walled_lattice<D::value>(D::value == 2 ? 19 : 7, 0.5e-3, false), false, false, true);
 }
 
+// Resuming keeps the scene's last forces: a scene that has none (never prepared) or whose forces
+// belong to another law is refused, not run from zero or stale forces.
+BOOST_AUTO_TEST_CASE(a_scene_without_its_present_forces_cannot_resume) {
+    auto serial = lattice<2>(per_side(2), 10e-6);
+    using Run = mm::mpi::DistributedRun<decltype(serial)>;
+    mmtest::expect_error([&] { Run run(MPI_COMM_WORLD, serial, Run::Start::resume); }, {"Start::resume", "prepare()", "Start::fresh"});
+    serial.run(10);
+    serial.law().tangential = mm::CundallStrack(serial.law().tangential.stiffness(), 0.0, 0.3);
+    mmtest::expect_error([&] { Run run(MPI_COMM_WORLD, serial, Run::Start::resume); }, {"Start::resume", "law"});
+    serial.prepare();
+    Run run(MPI_COMM_WORLD, serial, Run::Start::resume);  // its forces are the present scene's again
+    BOOST_TEST(run.steps_done() == 10u);
+}
+
 BOOST_AUTO_TEST_CASE(a_share_cannot_resume) {
     auto serial = lattice<2>(per_side(2), 10e-6);
     using Run = mm::mpi::DistributedRun<decltype(serial)>;

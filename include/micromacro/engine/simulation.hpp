@@ -200,6 +200,8 @@ public:
     }
     double time() const { return time_; }
     std::size_t steps_done() const { return steps_; }
+    /// Whether the forces are those of the present scene (prepare() ran since the last change).
+    bool prepared() const { return prepared_ && reference_.size() == particles_.size(); }
     /// Sets the clock, for a state assembled elsewhere (mpi::DistributedRun::whole_scene).
     void set_clock(double time, std::size_t steps) { time_ = time, steps_ = steps; }
     std::size_t neighbor_rebuilds() const { return rebuilds_; }

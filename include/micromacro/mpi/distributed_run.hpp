@@ -67,8 +67,9 @@ public:
     /// How a run takes over `whole`: `fresh` computes the first forces, `resume` keeps the forces,
     /// torques and springs of whole's last evaluation (a scene that has run, or one loaded from a
     /// state file, such as one written from whole_scene in mpi/checkpoint.hpp), so that the run
-    /// continues as whole would have. A scene whose law, time step or skin changed since its last
-    /// evaluation would evaluate again before its next step: call its prepare() first.
+    /// continues as whole would have. A scene whose forces are not its present ones (never
+    /// prepared, or its particles, law, time step or skin changed since) is refused: call its
+    /// prepare() first.
     enum class Start { fresh, resume };
     /// What each rank passes: `whole`, the whole scene (the same on every rank), of which it keeps
     /// the particles it owns; or `share`, its own share of the particles (any positions: each goes
@@ -93,6 +94,10 @@ public:
         if (resume && share)
             micromacro::detail::throw_input_error("DistributedRun: a resumed run starts from the whole scene on every rank (its springs "
                                                   "span the shares); use Input::whole, as mpi::whole_scene gives it");
+        if (resume && !whole.prepared())
+            micromacro::detail::throw_input_error("DistributedRun: Start::resume keeps the scene's last forces, but they are not the "
+                                                  "present scene's (never prepared, or particles, law, time step or skin changed "
+                                                  "since); call its prepare() first, or use Start::fresh");
         if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());  // before an engine measures them
         Index first_id = 0;  // of this rank's share
         if (share) {
