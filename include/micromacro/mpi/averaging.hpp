@@ -82,15 +82,6 @@ std::vector<char> rattlers(const DistributedRun<Sim>& run, const PackingSnapshot
         if (!anywhere) return rattler;
     }
 }
-/// Adds `sums` over the ranks of `comm`, number by number (its for_each_number), on every rank.
-template <class Sums>
-void add_over_ranks(Sums& sums, MPI_Comm comm, const char* what) {
-    std::vector<double> numbers;
-    sums.for_each_number([&](double& x) { numbers.push_back(x); });
-    check(MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM, comm), what);
-    std::size_t k = 0;
-    sums.for_each_number([&](double& x) { x = numbers[k++]; });
-}
 }  // namespace averaging_detail
 
 /// The average over `region` of the whole scene a DistributedRun steps, the same on every rank
@@ -103,7 +94,7 @@ MicroMacro<Sim::dimension> average(DistributedRun<Sim>& run, const Region<Sim::d
     const AveragingShare share = averaging_detail::share_of(run, s);
     const auto weights = contact_weights(s, region, opt, averaging_detail::rattlers(run, s));
     AverageSums<Sim::dimension> sums = average_sums(s, region, opt, weights, &share);
-    averaging_detail::add_over_ranks(sums, run.comm().comm(), "MPI_Allreduce (averages)");
+    add_over_ranks(sums, run.comm().comm(), "MPI_Allreduce (averages)");
     return finish_average(sums, region.volume());
 }
 
@@ -119,7 +110,7 @@ CoarseGrainedFields<Sim::dimension> coarse_grain(DistributedRun<Sim>& run, const
     const AveragingShare share = averaging_detail::share_of(run, s);
     const auto weights = contact_weights(s, Region<dim>::whole(s), opt, averaging_detail::rattlers(run, s));
     CoarseGrainedFields<dim> f = micromacro::coarse_grain(s, grid, kernel, opt, weights, &share);
-    averaging_detail::add_over_ranks(f, run.comm().comm(), "MPI_Allreduce (coarse-grained fields)");
+    add_over_ranks(f, run.comm().comm(), "MPI_Allreduce (coarse-grained fields)");
     return f;
 }
 

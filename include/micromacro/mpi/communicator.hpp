@@ -4,7 +4,9 @@
 // the split (CartesianSplit) and its neighbours across each face. Needs MPI (the optional
 // micromacro::mpi target).
 #include <array>
+#include <cstddef>
 #include <string>
+#include <vector>
 
 #include <mpi.h>
 
@@ -77,5 +79,15 @@ private:
     CartesianSplit<dim> split_{};
     std::array<int, dim> below_{}, above_{};
 };
+
+/// Adds `sums` over the ranks of `comm`, number by number (its for_each_number), on every rank.
+template <class Sums>
+void add_over_ranks(Sums& sums, MPI_Comm comm, const char* what) {
+    std::vector<double> numbers;
+    sums.for_each_number([&](double& x) { numbers.push_back(x); });
+    check(MPI_Allreduce(MPI_IN_PLACE, numbers.data(), static_cast<int>(numbers.size()), MPI_DOUBLE, MPI_SUM, comm), what);
+    std::size_t k = 0;
+    sums.for_each_number([&](double& x) { x = numbers[k++]; });
+}
 
 }  // namespace micromacro::mpi

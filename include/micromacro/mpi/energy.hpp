@@ -3,9 +3,7 @@
 // counts its own particles and half of each contact with a ghost (BasicSimulation::energy) and
 // books likewise; rank 0 counts the walls' own energy and books (every rank holds every wall).
 // The parts are added over the ranks.
-#include <array>
-#include <cstddef>
-#include <vector>
+#include <initializer_list>
 
 #include <mpi.h>
 
@@ -15,17 +13,42 @@
 
 namespace micromacro::mpi {
 
+namespace energy_detail {
+/// The numbers of an EnergyState that add over the ranks (add_over_ranks).
+struct StateSums {
+    EnergyState& e;
+    template <class F>
+    void for_each_number(F&& f) {
+        for (double* x : {&e.kinetic_translational, &e.kinetic_rotational, &e.kinetic_walls, &e.elastic_normal,
+                          &e.elastic_tangential, &e.gravitational})
+            f(*x);
+    }
+};
+/// The numbers of OpenBooks that add over the ranks: the sums, the last evaluation's bookings,
+/// the initial energy and the walls' pushes (their offsets and areas are every rank's).
+struct BookSums {
+    OpenBooks& b;
+    template <class F>
+    void for_each_number(F&& f) {
+        for (EnergyBooks* e : {&b.books, &b.last_evaluation})
+            for (double* x : {&e->dissipated_normal, &e->dissipated_tangential, &e->dissipated_sliding, &e->dissipated_background,
+                              &e->dissipated_walls, &e->work_by_walls, &e->work_by_deformation})
+                f(*x);
+        f(b.initial_energy);
+        for (auto& w : b.walls) f(w.push);
+    }
+};
+}  // namespace energy_detail
+
 /// The same on every rank (a collective call: every rank must make it; it brings the ghosts up
 /// to date first, since a contact's energy reads its partner's state).
 template <class Sim>
 EnergyState energy(DistributedRun<Sim>& run) {
     run.refresh_ghosts();
-    const EnergyState e = run.local().energy();
-    std::array<double, 6> parts{e.kinetic_translational, e.kinetic_rotational, e.kinetic_walls,
-                                e.elastic_normal,        e.elastic_tangential, e.gravitational};
-    check(MPI_Allreduce(MPI_IN_PLACE, parts.data(), static_cast<int>(parts.size()), MPI_DOUBLE, MPI_SUM, run.comm().comm()),
-          "MPI_Allreduce (energies)");
-    return {parts[0], parts[1], parts[2], parts[3], parts[4], parts[5]};
+    EnergyState e = run.local().energy();
+    energy_detail::StateSums sums{e};
+    add_over_ranks(sums, run.comm().comm(), "MPI_Allreduce (energies)");
+    return e;
 }
 
 /// The whole scene's books as a serial engine would continue them, the same on every rank (a
@@ -34,21 +57,8 @@ EnergyState energy(DistributedRun<Sim>& run) {
 template <class Sim>
 OpenBooks open_books(const DistributedRun<Sim>& run) {
     OpenBooks b = run.local().open_books();
-    std::vector<double> parts;
-    for (EnergyBooks* e : {&b.books, &b.last_evaluation})
-        parts.insert(parts.end(), {e->dissipated_normal, e->dissipated_tangential, e->dissipated_sliding, e->dissipated_background,
-                                   e->dissipated_walls, e->work_by_walls, e->work_by_deformation});
-    parts.push_back(b.initial_energy);
-    for (const auto& w : b.walls) parts.push_back(w.push);
-    check(MPI_Allreduce(MPI_IN_PLACE, parts.data(), static_cast<int>(parts.size()), MPI_DOUBLE, MPI_SUM, run.comm().comm()),
-          "MPI_Allreduce (energy books)");
-    std::size_t k = 0;
-    for (EnergyBooks* e : {&b.books, &b.last_evaluation})
-        for (double* x : {&e->dissipated_normal, &e->dissipated_tangential, &e->dissipated_sliding, &e->dissipated_background,
-                          &e->dissipated_walls, &e->work_by_walls, &e->work_by_deformation})
-            *x = parts[k++];
-    b.initial_energy = parts[k++];
-    for (auto& w : b.walls) w.push = parts[k++];
+    energy_detail::BookSums sums{b};
+    add_over_ranks(sums, run.comm().comm(), "MPI_Allreduce (energy books)");
     return b;
 }
 
