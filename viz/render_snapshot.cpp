@@ -49,6 +49,7 @@
 #include <vtkTextProperty.h>
 #include <vtkTubeFilter.h>
 #include <vtkWindowToImageFilter.h>
+#include <vtkXMLPPolyDataReader.h>
 #include <vtkXMLPolyDataReader.h>
 
 #include "../examples/command_line.hpp"
@@ -92,10 +93,15 @@ fs::path resolve(const fs::path& input, int step) {
     return files[static_cast<std::size_t>(index)].file;
 }
 
-/// A .vtp file; `need_points`: refuse one without points (a particles file must have some).
+/// A .vtp file, or a .pvtp summary with its pieces (a run over MPI ranks) as one data set;
+/// `need_points`: refuse one without points (a particles file must have some).
 vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
     if (!fs::is_regular_file(p)) fail("cannot read " + p.string() + ": no such file");
-    vtkNew<vtkXMLPolyDataReader> reader;
+    vtkSmartPointer<vtkXMLReader> reader;
+    if (p.extension() == ".pvtp")
+        reader = vtkSmartPointer<vtkXMLPPolyDataReader>::New();
+    else
+        reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
     // A damaged or truncated file makes the reader raise error events and return what it read
     // so far; any error refuses the file instead of drawing part of it.
     vtkNew<vtkCallbackCommand> on_error;
@@ -108,7 +114,7 @@ vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
     reader->Update();
     if (damaged || reader->GetErrorCode() != vtkErrorCode::NoError)
         fail(p.string() + " is damaged or truncated (VTK could not read it whole)");
-    vtkSmartPointer<vtkPolyData> data = reader->GetOutput();
+    vtkSmartPointer<vtkPolyData> data = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
     if (!data || (need_points && data->GetNumberOfPoints() == 0)) fail(p.string() + " holds no points (not a particles .vtp?)");
     return data;
 }

@@ -20,6 +20,8 @@
 
 #include <micromacro/micromacro.hpp>
 
+#include "scene.hpp"
+
 namespace biaxial {
 
 namespace mm = micromacro;
@@ -342,34 +344,40 @@ public:
 
     /// Compresses isotropically until the kinetic energy of the particles and of the walls is below
     /// the configured fraction of the elastic energy and every controlled wall's push is within
-    /// 1e-4 of p A; returns the simulated time it took.
-    double prepare(const std::function<void(const Sim&)>& progress = {}) {
+    /// 1e-4 of p A; returns the simulated time it took. `scene` steps the built scene (SerialScene:
+    /// this experiment's engine).
+    template <class Scene>
+    double prepare(Scene& scene, const std::function<void()>& progress = {}) {
         const double limit = c_.max_prepare_time > 0 ? c_.max_prepare_time
-                                                     : 50.0 * sim_.walls()[1].coordinate() / c_.wall_speed_prepare();
-        const double start = sim_.time();
+                                                     : 50.0 * scene.walls()[1].coordinate() / c_.wall_speed_prepare();
+        const double start = scene.time();
         while (true) {
-            sim_.run(1000);
-            if (progress) progress(sim_);
-            const auto e = sim_.energy();
+            scene.run(1000);
+            if (progress) progress();
+            const auto e = scene.energy();
             double wall_kinetic = 0.0;
             double imbalance = 0.0;  // of the controlled walls' push against p A: a light wall moves with little energy
-            for (const auto& w : sim_.walls()) {
+            for (const auto& w : scene.walls()) {
                 wall_kinetic += 0.5 * c_.wall_mass * w.speed * w.speed;
                 if (const auto* s = std::get_if<mm::StressControlled>(&w.motion)) {
-                    const double load = s->pressure * sim_.walls().area(w, sim_.domain());
+                    const double load = s->pressure * scene.walls().area(w, scene.box());
                     imbalance = std::max(imbalance, std::abs(-w.force.dot(w.normal) / load - 1.0));
                 }
             }
             if (e.elastic_normal > 0.0 && e.kinetic() < c_.prepare_kinetic_ratio * e.potential() &&
                 wall_kinetic < c_.prepare_kinetic_ratio * e.potential() && imbalance <= 1e-4)
                 break;
-            if (sim_.time() - start > limit)
+            if (scene.time() - start > limit)
                 mm::throw_input_error("the preparation did not come to rest within ", limit,
                                               " s (kinetic / elastic energy = ", e.kinetic() / e.potential(),
                                               ", largest wall push off p A by ", imbalance,
                                               "); raise --gamma-b-prepare or lower --prepare-speed");
         }
-        return sim_.time() - start;
+        return scene.time() - start;
+    }
+    double prepare(const std::function<void()>& progress = {}) {
+        SerialScene<Sim> scene(sim_);
+        return prepare(scene, progress);
     }
 
     /// Switches the walls and damping to the loading of Sec. 4.1 and records the reference box.
@@ -412,11 +420,12 @@ public:
     }
     /// The box after preparation, per axis (m).
     std::vector<double> reference_box() const { return {box0_.begin(), box0_.end()}; }
-    /// eps_zz = 1 - z / z0 of Eq. 17 (compression positive).
-    double eps_zz() const {
-        const auto& w = sim_.walls();
+    /// eps_zz = 1 - z / z0 of Eq. 17 (compression positive), with the walls `w` (the engine's by default).
+    template <class Walls>
+    double eps_zz(const Walls& w) const {
         return 1.0 - (w[2 * up + 1].coordinate() - w[2 * up].coordinate()) / box0_[up];
     }
+    double eps_zz() const { return eps_zz(sim_.walls()); }
     double load_end() const { return load_start_ + 0.5 * c_.period + c_.relax; }
     /// Steps between two rows of the time series (the output interval, rounded to whole steps).
     std::size_t steps_per_row() const {
@@ -427,21 +436,23 @@ public:
         return 1 + static_cast<std::size_t>(std::ceil((load_end() - load_start_) / (steps_per_row() * sim_.time_step())));
     }
 
-    /// The time-series row of the present state.
-    Row row() const {
+    /// The time-series row of the present state of `scene` (SerialScene: this experiment's engine).
+    template <class Scene>
+    Row row(Scene& scene) const {
         Row r;
-        const auto s = mm::take_snapshot(sim_);
+        const auto s = scene.snapshot();  // the walls and this process's particles and contacts
         const auto region = mm::Region<dim>::inner(s, c_.inner_margin);  // the paper's averaging box: 10%
-        const auto m = mm::average(s, region);
+        const auto m = scene.average(s, region);
         const auto wall = mm::wall_stress(s);
-        const auto e = sim_.energy();
-        const auto& walls = sim_.walls();
+        const auto e = scene.energy();
+        const auto books = scene.books();
+        const auto& walls = scene.walls();
         auto idx = [](std::initializer_list<int> i) {
             std::string t;
             for (int a : i) t += std::to_string(a + 1);
             return t;
         };
-        r.add("time", sim_.time() - load_start_);
+        r.add("time", scene.time() - load_start_);
         double volume = 1.0, volume0 = 1.0;
         for (int k = 0; k < dim; ++k) {
             const double extent = walls[2 * k + 1].coordinate() - walls[2 * k].coordinate();
@@ -476,13 +487,15 @@ public:
         // g2 measured (tr F / (nu C)) and g2 of the size distribution, <a^2> / <a>^2 of the
         // particles inside (the paper's 1.088 for radii uniform in [0.5, 1.5] mm); the paper's
         // corrected contact number density is tr F over the latter, to compare with nu C.
-        double a1 = 0.0, a2 = 0.0, count = 0.0;
-        for (std::size_t p = 0; p < s.size(); ++p)
+        std::vector<double> sums(3, 0.0);  // of a, a^2 and 1 over the particles inside
+        for (std::size_t p = 0; p < scene.owned(); ++p)
             if (region.contains(s.position[p])) {
-                a1 += s.radius[p];
-                a2 += s.radius[p] * s.radius[p];
-                count += 1.0;
+                sums[0] += s.radius[p];
+                sums[1] += s.radius[p] * s.radius[p];
+                sums[2] += 1.0;
             }
+        scene.add_up(sums);
+        const double a1 = sums[0], a2 = sums[1], count = sums[2];
         const double g2_size = count > 0 ? a2 * count / (a1 * a1) : 0.0;
         r.add("g2", m.g2);
         r.add("g2_size", g2_size);
@@ -504,11 +517,15 @@ public:
                       m.stiffness_tangential(p / dim, p % dim, q / dim, q % dim));
         r.add("kinetic_energy", e.kinetic());
         r.add("elastic_energy", e.elastic_normal + e.elastic_tangential);
-        r.add("dissipated_energy", sim_.books().dissipated());
-        r.add("dissipated_background", sim_.books().dissipated_background);
-        r.add("work_by_walls", sim_.books().work_by_walls);
+        r.add("dissipated_energy", books.dissipated());
+        r.add("dissipated_background", books.dissipated_background);
+        r.add("work_by_walls", books.work_by_walls);
         r.add("sliding_fraction", m.sliding_fraction);
         return r;
+    }
+    Row row() {
+        SerialScene<Sim> scene(sim_);
+        return row(scene);
     }
 
 private:

@@ -15,6 +15,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iostream>
+#include <optional>
 #include <random>
 #include <sstream>
 #include <string>
@@ -26,9 +27,17 @@
 #include "../installed.hpp"
 #include "biaxial.hpp"
 #include "parameters.hpp"
+#include "processes.hpp"
 #include "quality.hpp"
+#include "scene.hpp"
 #ifdef MICROMACRO_HAVE_VTK
 #include <micromacro/io/vtk.hpp>
+#endif
+#ifdef MICROMACRO_HAVE_MPI
+#include "distributed_scene.hpp"
+#ifdef MICROMACRO_HAVE_VTK
+#include <micromacro/mpi/vtk_output.hpp>
+#endif
 #endif
 
 namespace fs = std::filesystem;
@@ -126,8 +135,9 @@ fs::path sibling_program(const std::string& name) {
 /// the force network (in 3D a slab through the middle of the box, two mean diameters thick, seen
 /// across y, so that the chains inside show), the plots of Fig. 4-5 and, with ffmpeg, a movie of
 /// every frame: through the X display, or through Xvfb (xvfb-run) when there is none; without
-/// either, the commands that make them later.
-void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean_radius) {
+/// either, the commands that make them later. `pieces` is the particles' and contacts' extension
+/// (.vtp, or .pvtp for the pieces of a run over MPI ranks).
+void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean_radius, const std::string& pieces) {
     const fs::path render = sibling_program("render_snapshot"), plot = sibling_program("plot_timeseries");
     const std::string xvfb = "xvfb-run -a -s \"-screen 0 1280x1024x24\" ";
     std::vector<std::string> commands;
@@ -143,9 +153,9 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean
         }
         for (const std::size_t f : picked) {
             const std::string k = std::to_string(f);
-            commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --range-from " +
+            commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + pieces)).string() + " --range-from " +
                                (out / "vtk" / "particles.pvd").string() + " --walls " + (out / "vtk" / ("walls_" + k + ".vtp")).string() +
-                               " --contacts " + (out / "vtk" / ("contacts_" + k + ".vtp")).string() + (dim == 3 ? slice : "") +
+                               " --contacts " + (out / "vtk" / ("contacts_" + k + pieces)).string() + (dim == 3 ? slice : "") +
                                " -o " + (out / "snapshots" / ("snapshot_" + k + ".png")).string());
         }
     }
@@ -201,13 +211,23 @@ void plan_from_json(const nlohmann::ordered_json& j, Plan& p) {
 
 template <int dim, class Law>
 int run(const Config& c, const Plan& plan) {
-    const bool terminal = !plan.quiet && isatty(STDOUT_FILENO);
+    const bool writer = biaxial::first_process();  // of the files every process would write alike
+    const bool terminal = writer && !plan.quiet && isatty(STDOUT_FILENO);
     const auto wall_start = std::chrono::steady_clock::now();
     const std::string started = now_iso();
     const fs::path& out = plan.out;
     biaxial::Experiment<dim, micromacro::VelocityVerlet, double, Law> exp(c);
-    auto& sim = exp.simulation();
+    using Sim = std::remove_reference_t<decltype(exp.simulation())>;
+    auto& sim = exp.simulation();  // the whole scene: built, loaded, or gathered from the ranks
     sim.set_threads(plan.threads);
+#ifdef MICROMACRO_HAVE_MPI
+    using Scene = biaxial::DistributedScene<Sim>;
+    const auto start_scene = [&](std::optional<Scene>& s) { s.emplace(MPI_COMM_WORLD, sim, plan.threads); };
+#else
+    using Scene = biaxial::SerialScene<Sim>;
+    const auto start_scene = [&](std::optional<Scene>& s) { s.emplace(sim); };
+#endif
+    std::optional<Scene> scene;  // what the phases step: sim itself, or sim split over the ranks
     const double n = static_cast<double>(c.particles);
 
     auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count(); };
@@ -216,33 +236,44 @@ int run(const Config& c, const Plan& plan) {
     auto progress = [&](const char* phase, double fraction, double strain) {
         if (!terminal || elapsed() - last_print < 0.5) return;
         last_print = elapsed();
-        const double rate = (sim.steps_done() - steps_before) * n / std::max(elapsed(), 1e-9);
+        const double rate = (scene->steps_done() - steps_before) * n / std::max(elapsed(), 1e-9);
         const double left = fraction > 0 ? elapsed() * (1.0 - fraction) / fraction : 0.0;
-        std::printf("\r%-9s strain %.4f  t = %.5f s  %.2e particle-steps/s  ~%.0f s left   ", phase, strain, sim.time(),
+        std::printf("\r%-9s strain %.4f  t = %.5f s  %.2e particle-steps/s  ~%.0f s left   ", phase, strain, scene->time(),
                     rate, left);
         std::fflush(stdout);
     };
     // VTK frames (where VTK was found at build time): particles, contacts and walls every
-    // vtk_every_rows rows, each series with its .pvd collection.
+    // vtk_every_rows rows, each series with its .pvd collection. Over MPI ranks the particles and
+    // contacts are pieces, one per rank, which a .pvtp summary joins (ParaView opens it as one).
+    const std::string pieces = Scene::distributed ? ".pvtp" : ".vtp";
     std::vector<double> vtk_times;
     auto write_vtk = [&] {
 #ifdef MICROMACRO_HAVE_VTK
         if (plan.vtk_every_rows == 0) return;
         const fs::path dir = out / "vtk";
-        fs::create_directories(dir);
+        biaxial::on_first([&] { fs::create_directories(dir); });
         const std::string k = std::to_string(vtk_times.size());
-        const auto snapshot = micromacro::take_snapshot(sim);
+        const auto snapshot = scene->snapshot();
+        const std::vector<std::pair<std::string, double>> values = {{"eps_zz", exp.eps_zz(scene->walls())}};
+#ifdef MICROMACRO_HAVE_MPI
+        micromacro::mpi::write_particles(scene->distributed_run(), dir / ("particles_" + k + pieces), values);
+        micromacro::mpi::write_contacts(scene->distributed_run(), dir / ("contacts_" + k + pieces));
+#else
         auto frame = micromacro::io::particle_frame(sim);
-        frame.values = {{"eps_zz", exp.eps_zz()}};
-        micromacro::io::write_particles(frame, dir / ("particles_" + k + ".vtp"));
-        micromacro::io::write_contacts(snapshot, dir / ("contacts_" + k + ".vtp"));
-        micromacro::io::write_walls(snapshot, dir / ("walls_" + k + ".vtp"));
-        vtk_times.push_back(sim.time() - exp.load_start());
-        for (const std::string series : {"particles", "contacts", "walls"}) {
-            micromacro::io::PvdCollection pvd(dir / (series + ".pvd"));
-            for (std::size_t f = 0; f < vtk_times.size(); ++f) pvd.add(vtk_times[f], series + "_" + std::to_string(f) + ".vtp");
-            pvd.write();
-        }
+        frame.values = values;
+        micromacro::io::write_particles(frame, dir / ("particles_" + k + pieces));
+        micromacro::io::write_contacts(snapshot, dir / ("contacts_" + k + pieces));
+#endif
+        vtk_times.push_back(scene->time() - exp.load_start());
+        biaxial::on_first([&] {
+            micromacro::io::write_walls(snapshot, dir / ("walls_" + k + ".vtp"));
+            for (const std::string series : {"particles", "contacts", "walls"}) {
+                micromacro::io::PvdCollection pvd(dir / (series + ".pvd"));
+                const std::string extension = series == "walls" ? ".vtp" : pieces;
+                for (std::size_t f = 0; f < vtk_times.size(); ++f) pvd.add(vtk_times[f], series + "_" + std::to_string(f) + extension);
+                pvd.write();
+            }
+        });
 #endif
     };
     auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
@@ -260,25 +291,30 @@ int run(const Config& c, const Plan& plan) {
     std::size_t rows_done = 0;
     double prepare_seconds = 0.0;
     std::size_t prepare_steps = 0;
-    std::ofstream csv;
+    std::ofstream csv;  // the first process's
     if (plan.resume) {
         const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, out / "checkpoint.state", "checkpoint"));
         exp.restore_bookkeeping(saved.at("bookkeeping").get<std::vector<double>>());
         rows_done = saved.at("rows");
         vtk_times = saved.at("vtk_times").get<std::vector<double>>();
         steps_before = sim.steps_done();
-        if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
-            micromacro::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
-        if (const std::string series = run_id_of_series(partial); series != plan.run_id)
-            micromacro::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
-                                                  plan.run_id, "'; the folder mixes two runs and cannot resume");
-        fs::resize_file(partial, saved.at("csv_bytes").get<std::uintmax_t>());  // drop rows written after the checkpoint
-        csv.open(partial, std::ios::app);
+        biaxial::on_first([&] {
+            if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
+                micromacro::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
+            if (const std::string series = run_id_of_series(partial); series != plan.run_id)
+                micromacro::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
+                                              plan.run_id, "'; the folder mixes two runs and cannot resume");
+            fs::resize_file(partial, saved.at("csv_bytes").get<std::uintmax_t>());  // drop rows written after the checkpoint
+            csv.open(partial, std::ios::app);
+        });
+        start_scene(scene);
     } else {
         if (plan.from_prepared.empty()) {
             exp.build();
-            exp.prepare([&](const auto&) { progress("prepare", 0.0, 0.0); });
-            micromacro::io::save_state(sim, out / "prepared.state", settings(0, 0), "prepared");
+            start_scene(scene);
+            exp.prepare(*scene, [&] { progress("prepare", 0.0, 0.0); });
+            Sim& prepared = scene->whole();
+            biaxial::on_first([&] { micromacro::io::save_state(prepared, out / "prepared.state", settings(0, 0), "prepared"); });
         } else {
             const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(micromacro::io::load_state(sim, plan.from_prepared, "prepared"));
             if (saved.at("parameters").at("particles").get<std::size_t>() != c.particles)
@@ -289,23 +325,31 @@ int run(const Config& c, const Plan& plan) {
         }
         prepare_seconds = elapsed();
         prepare_steps = sim.steps_done();
-        exp.start_loading();
-        csv.open(partial, std::ios::trunc);
+        exp.start_loading();  // on the whole scene, which the phases continue from
+        if (scene)
+            scene->continue_from(sim);
+        else
+            start_scene(scene);
+        biaxial::on_first([&] { csv.open(partial, std::ios::trunc); });
     }
-    if (!csv) micromacro::throw_input_error("cannot write ", partial.string());
+    biaxial::on_first([&] {
+        if (!csv) micromacro::throw_input_error("cannot write ", partial.string());
+    });
 
     // Loading: one row per output interval, into a partial file renamed at the end.
     auto write_row = [&] {
-        const auto r = exp.row();
-        if (rows_done == 0) {
-            csv << "# run " << plan.run_id << "\n";
-            csv << "# units: time s, strains 1, walls m, stresses " << (dim == 2 ? "N/m" : "Pa") << ", stiffness "
-                << (dim == 2 ? "N/m" : "Pa") << ", fabric 1, energies J, phi_F rad\n";
-            for (std::size_t i = 0; i < r.names.size(); ++i) csv << (i ? "," : "") << r.names[i];
+        const auto r = exp.row(*scene);
+        if (writer) {
+            if (rows_done == 0) {
+                csv << "# run " << plan.run_id << "\n";
+                csv << "# units: time s, strains 1, walls m, stresses " << (dim == 2 ? "N/m" : "Pa") << ", stiffness "
+                    << (dim == 2 ? "N/m" : "Pa") << ", fabric 1, energies J, phi_F rad\n";
+                for (std::size_t i = 0; i < r.names.size(); ++i) csv << (i ? "," : "") << r.names[i];
+                csv << "\n";
+            }
+            for (std::size_t i = 0; i < r.values.size(); ++i) csv << (i ? "," : "") << csv_number(r.values[i]);
             csv << "\n";
         }
-        for (std::size_t i = 0; i < r.values.size(); ++i) csv << (i ? "," : "") << csv_number(r.values[i]);
-        csv << "\n";
         if (plan.vtk_every_rows && rows_done % plan.vtk_every_rows == 0) write_vtk();
         ++rows_done;
     };
@@ -313,27 +357,35 @@ int run(const Config& c, const Plan& plan) {
     const auto steps_per_row = exp.steps_per_row();
     const auto total_rows = exp.loading_rows();
     if (rows_done == 0) write_row();
-    double last_checkpoint = sim.time();
+    double last_checkpoint = scene->time();
     while (rows_done < total_rows) {
-        sim.run(steps_per_row);
+        scene->run(steps_per_row);
         write_row();
-        progress("load", double(rows_done) / total_rows, exp.eps_zz());
-        if (plan.checkpoint_every > 0 && sim.time() - last_checkpoint >= plan.checkpoint_every - 0.5 * dt) {
-            csv.flush();
-            micromacro::io::save_state(sim, out / "checkpoint.state", settings(rows_done, fs::file_size(partial)), "checkpoint");
-            last_checkpoint = sim.time();
+        progress("load", double(rows_done) / total_rows, exp.eps_zz(scene->walls()));
+        if (plan.checkpoint_every > 0 && scene->time() - last_checkpoint >= plan.checkpoint_every - 0.5 * dt) {
+            Sim& now = scene->whole();
+            biaxial::on_first([&] {
+                csv.flush();
+                micromacro::io::save_state(now, out / "checkpoint.state", settings(rows_done, fs::file_size(partial)), "checkpoint");
+            });
+            last_checkpoint = scene->time();
         }
         if (plan.stop_after_rows && rows_done >= plan.stop_after_rows) {
-            csv.flush();
+            if (writer) csv.flush();
             std::_Exit(3);  // no clean-up, as if killed
         }
     }
-    csv.close();
-    if (!csv) micromacro::throw_input_error("cannot finish ", partial.string());
-    fs::rename(partial, out / "timeseries.csv");
+    biaxial::on_first([&] {
+        csv.close();
+        if (!csv) micromacro::throw_input_error("cannot finish ", partial.string());
+        fs::rename(partial, out / "timeseries.csv");
+    });
+    const double final_eps_zz = exp.eps_zz(scene->walls());
+    const std::size_t steps = scene->steps_done();
+    if (!writer) return 0;
 
     const double seconds = elapsed();
-    const double pps = (sim.steps_done() - steps_before) * n / seconds;
+    const double pps = (steps - steps_before) * n / seconds;
     const double tc = c.contact_duration();
     // Inertial number I = (d eps/dt) d sqrt(rho / p) at the peak rate of Eq. 17, eps_f pi / T, with
     // the mean diameter d; in 2D rho is the sphere mass per disk area, 4/3 rho a.
@@ -363,7 +415,7 @@ int run(const Config& c, const Plan& plan) {
                     {"wall_oscillation_time_s", 2.0 * M_PI * std::sqrt(c.wall_mass / c.contact_springs().normal_stiffness)},
                     {"wall_damping_time_s", c.wall_damping > 0 ? 2.0 * c.wall_mass / c.wall_damping : 0.0},
                     {"box_after_preparation_m", box},
-                    {"final_eps_zz", exp.eps_zz()}};
+                    {"final_eps_zz", final_eps_zz}};
     const auto q = biaxial::loading_quality(biaxial::read_timeseries((out / "timeseries.csv").string()), dim, c.pressure,
                                             c.final_strain);
     // Figures that cannot be taken (too few rows) are NaN, which nlohmann::json writes as null.
@@ -381,29 +433,88 @@ int run(const Config& c, const Plan& plan) {
                    {"from_prepared", plan.from_prepared},
                    {"wall_seconds", seconds},
                    {"prepare_wall_seconds", prepare_seconds},
-                   {"steps", sim.steps_done()},
+                   {"steps", steps},
                    {"prepare_steps", prepare_steps},
                    {"particle_steps_per_second", pps},
-                   {"threads", plan.threads}};
+                   {"threads", plan.threads},
+                   {"ranks", biaxial::process_count()}};
     write_atomically(out / "run.json", j.dump(2) + "\n");
     // The run is complete: its checkpoint would only let a later run in this folder resume into it.
     fs::remove(out / "checkpoint.state");
     if (terminal) std::printf("\n");
-    if (plan.pictures) make_pictures(out, vtk_times.size(), dim, c.mean_radius());
+    if (plan.pictures) make_pictures(out, vtk_times.size(), dim, c.mean_radius(), pieces);
     std::printf("biaxial %dD: %zu particles, %zu steps in %.1f s (%.3g particle-steps/s); results in %s\n", dim,
-                c.particles, sim.steps_done() - steps_before, seconds, pps, out.string().c_str());
+                c.particles, steps - steps_before, seconds, pps, out.string().c_str());
     return 0;
 }
 
+#ifdef MICROMACRO_HAVE_MPI
+/// MPI for the life of the program (biaxial_mpi, under mpirun).
+struct MpiSession {
+    MpiSession(int& argc, char**& argv) { MPI_Init(&argc, &argv); }
+    ~MpiSession() { MPI_Finalize(); }
+    MpiSession(const MpiSession&) = delete;
+    MpiSession& operator=(const MpiSession&) = delete;
+};
+#endif
+
+/// Everything but the first process writes its standard output (the help, the progress, the
+/// summary: the same on each) to /dev/null, and its standard error too until the run starts (the
+/// command line's messages: the same on each); `speak` gives the latter back.
+struct QuietOthers {
+    int saved_error = -1;
+    QuietOthers() {
+        if (biaxial::first_process()) return;
+        saved_error = dup(STDERR_FILENO);
+        if (!std::freopen("/dev/null", "w", stdout) || !std::freopen("/dev/null", "w", stderr)) saved_error = -1;
+    }
+    void speak() {
+        if (saved_error < 0) return;
+        std::fflush(stderr);
+        dup2(saved_error, STDERR_FILENO);
+        close(saved_error);
+        saved_error = -1;
+    }
+};
+
 /// The run in the configuration's dimension and with its contact law.
-int run_scene(const Config& c, const Plan& plan) {
+int run(const Config& c, const Plan& plan) {
     if (c.hertz()) return c.dim == 2 ? run<2, micromacro::HertzMindlin>(c, plan) : run<3, micromacro::HertzMindlin>(c, plan);
     return c.dim == 2 ? run<2, micromacro::FrictionalLinear>(c, plan) : run<3, micromacro::FrictionalLinear>(c, plan);
+}
+
+/// The run, and what stops it told once. Over MPI ranks a refused input or file (InputError)
+/// stops every rank alike (the files are checked on the first, which tells the others), and the
+/// first tells it; anything else may have stopped one rank alone, which tells it with its rank and
+/// aborts the others, which would wait for it.
+int run_scene(const Config& c, const Plan& plan, QuietOthers& others) {
+    others.speak();
+    const int ranks = biaxial::process_count();
+    try {
+        return run(c, plan);
+    } catch (const micromacro::InputError& e) {
+        if (biaxial::first_process()) std::fprintf(stderr, "biaxial: %s\n", e.what());
+        return 1;
+    } catch (const std::exception& e) {
+        if (ranks == 1) {
+            std::fprintf(stderr, "biaxial: %s\n", e.what());
+            return 1;
+        }
+        std::fprintf(stderr, "biaxial (rank %d of %d): %s\n", biaxial::process_rank(), ranks, e.what());
+#ifdef MICROMACRO_HAVE_MPI
+        MPI_Abort(MPI_COMM_WORLD, 1);
+#endif
+        return 1;
+    }
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+#ifdef MICROMACRO_HAVE_MPI
+    const MpiSession mpi(argc, argv);
+#endif
+    QuietOthers others;
     Config c;
     std::string preset = "quick", out;
     bool quiet = false;
@@ -467,7 +578,7 @@ int main(int argc, char** argv) {
                 micromacro::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
             c = config_from_json(saved, c);
             plan_from_json(saved.at("plan"), plan);
-            return run_scene(c, plan);
+            return run_scene(c, plan, others);
         }
         biaxial::apply_preset(c, preset);
         biaxial::apply_options(given, c);
@@ -493,10 +604,10 @@ int main(int argc, char** argv) {
                                           "; drop ", name);
         biaxial::validate(c);
         micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
-        claim_output_folder(out, overwrite, plan.from_prepared);
+        biaxial::on_first([&] { claim_output_folder(out, overwrite, plan.from_prepared); });
         plan.out = out;
-        plan.run_id = new_run_id();
-        return run_scene(c, plan);
+        plan.run_id = biaxial::as_on_first(biaxial::first_process() ? new_run_id() : "");
+        return run_scene(c, plan, others);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "biaxial: %s\n", e.what());
         return 1;

@@ -30,6 +30,7 @@ std::map<std::string, Expectation> expectations() {
     const std::string out = (work / "out").string();
     return {
         {"biaxial", {"--quiet --from-prepared " + missing + "/prepared.state --out " + out}},
+        {"biaxial_mpi", {"--quiet --from-prepared " + missing + "/prepared.state --out " + out}},  // one rank, without mpirun
         {"biaxial_summary", {missing + "/run"}},
         {"analyze_packing", {missing + "/packing.csv"}},
         {"speed_accuracy", {"--seeds 0 --out-dir " + out}},  // reads no file: an absurd count instead

@@ -24,17 +24,20 @@
 
 namespace micromacro::mpi {
 
-namespace averaging_detail {
-/// The rank's part of the whole snapshot: its particles [0, owned) and ghosts, its contacts,
-/// positions and contact points wrapped into the whole box (a ghost may sit at a periodic image).
+/// This rank's part of the whole scene's snapshot: its particles [0, run.owned()) and its ghosts,
+/// its contacts, the walls (every rank's are the same, with the forces summed over the ranks), the
+/// whole box, positions and contact points wrapped into it (a ghost may sit at a periodic image).
+/// A collective call: it brings the ghosts up to date first.
 template <class Sim>
-PackingSnapshot<Sim::dimension> local_snapshot(const DistributedRun<Sim>& run) {
+PackingSnapshot<Sim::dimension> local_snapshot(DistributedRun<Sim>& run) {
+    run.refresh_ghosts();
     PackingSnapshot<Sim::dimension> s = take_snapshot(run.local());
     s.domain = run.box();
     for (auto& c : s.contacts) s.domain.wrap(c.point);
     return s;
 }
 
+namespace averaging_detail {
 /// Which of the snapshot's particles and contacts this rank adds.
 template <class Sim>
 AveragingShare share_of(const DistributedRun<Sim>& run, const PackingSnapshot<Sim::dimension>& s) {
@@ -89,8 +92,7 @@ std::vector<char> rattlers(const DistributedRun<Sim>& run, const PackingSnapshot
 template <class Sim>
 MicroMacro<Sim::dimension> average(DistributedRun<Sim>& run, const Region<Sim::dimension>& region,
                                    const AveragingOptions& opt = {}) {
-    run.refresh_ghosts();
-    const auto s = averaging_detail::local_snapshot(run);
+    const auto s = local_snapshot(run);
     const AveragingShare share = averaging_detail::share_of(run, s);
     const auto weights = contact_weights(s, region, opt, averaging_detail::rattlers(run, s));
     AverageSums<Sim::dimension> sums = average_sums(s, region, opt, weights, &share);
@@ -105,8 +107,7 @@ template <class Sim, CoarseGrainingKernel Kernel>
 CoarseGrainedFields<Sim::dimension> coarse_grain(DistributedRun<Sim>& run, const Grid<Sim::dimension>& grid, const Kernel& kernel,
                                                  const AveragingOptions& opt = {}) {
     constexpr int dim = Sim::dimension;
-    run.refresh_ghosts();
-    const auto s = averaging_detail::local_snapshot(run);
+    const auto s = local_snapshot(run);
     const AveragingShare share = averaging_detail::share_of(run, s);
     const auto weights = contact_weights(s, Region<dim>::whole(s), opt, averaging_detail::rattlers(run, s));
     CoarseGrainedFields<dim> f = micromacro::coarse_grain(s, grid, kernel, opt, weights, &share);
