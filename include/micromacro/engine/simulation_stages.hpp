@@ -1,6 +1,6 @@
 #pragma once
 // BasicSimulation's integrator stages, which the integrator policies call: kick, drift and kick
-// in one pass over the particles (engine/particle_pass.hpp), then the walls, the clock and, when
+// in one pass over the particles it owns (engine/particle_pass.hpp), then the walls, the clock and, when
 // a particle or wall has moved far enough, the neighbour lists; and the force-change kick. The
 // passes get the arrays through particle_arrays().
 #include <algorithm>
@@ -17,7 +17,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
                                         particles_.template get<field::Velocity>().data(),
                                         particles_.template get<field::Force>().data(),
                                         particles_.template get<field::InverseMass>().data(),
-                                        nullptr, nullptr, nullptr, nullptr, nullptr, reference_.data(), particles_.size()};
+                                        nullptr, nullptr, nullptr, nullptr, nullptr, reference_.data(), owned_count()};
     if constexpr (rotation) {
         a.w = particles_.template get<field::AngularVelocity>().data();
         a.torque = particles_.template get<field::Torque>().data();
@@ -46,6 +46,17 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         domain_.any_periodic()
             ? detail::kick_drift_pass<true, rotation, keep>(particle_arrays(), domain_, h_before, dt, h_after, h_closing, active_threads())
             : detail::kick_drift_pass<false, rotation, keep>(particle_arrays(), domain_, h_before, dt, h_after, h_closing, active_threads());
+    // Ghosts (set_first_ghost) are not integrated: their owners' states replace theirs before the
+    // next force evaluation. Only the array that evaluation accumulates into is cleared for them.
+    for (std::size_t i = owned_count(); i < particles_.size(); ++i) {
+        if constexpr (keep) {
+            previous_force_[i].setZero();
+            if constexpr (rotation) previous_torque_[i] = zero_angular<dim, Real>();
+        } else {
+            particles_.template get<field::Force>()[i].setZero();
+            if constexpr (rotation) particles_.template get<field::Torque>()[i] = zero_angular<dim, Real>();
+        }
+    }
     accumulators_cleared_ = true;
     if (!std::isfinite(sum_move_sq)) report_blow_up();
     double wall_move = 0.0;
