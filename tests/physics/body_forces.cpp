@@ -5,12 +5,28 @@
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
+#include <type_traits>
 
 #include "support/scenes.hpp"
 
 using namespace mmtest;
 
 namespace {
+namespace tt = boost::test_tools;
+template <class A>
+void spin_up(A& w) {  // 10 rad/s about the out-of-plane axis in 2D, about each axis in 3D
+    if constexpr (std::is_arithmetic_v<A>)
+        w = 10.0;
+    else
+        w = A::Constant(10.0);
+}
+template <class A>
+double magnitude(const A& w) {
+    if constexpr (std::is_arithmetic_v<A>)
+        return std::abs(w);
+    else
+        return w.norm();
+}
 const mm::FrictionalLinear frictional{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)};
 }
 
@@ -81,6 +97,64 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(background_damping_decays_exponentially, D, Dims) 
     BOOST_TEST(std::sqrt(mm::DimTraits<dim>::squared_norm(w - w_exact)) < 1e-6 * std::sqrt(mm::DimTraits<dim>::squared_norm(w0)));
     BOOST_TEST(std::abs(sim.books().dissipated_background + sim.energy().kinetic() - e0) < 1e-6 * e0);
     BOOST_TEST(sim.books().dissipated_background > 0.5 * e0);
+}
+
+// A drag alone has a stability limit too. A free particle under f = -gamma v*, v* velocity
+// Verlet's predicted velocity: the one-step map of (v, a) has trace 1 - 3c/2 and determinant -c/2,
+// c = gamma dt / m, so an eigenvalue reaches -1 at c = 1 exactly. stable_time_step() says
+// m / gamma_b, and I / gamma_r for the spin; prepare() refuses a step above it; at 0.99 of it the
+// motion decays (the map's eigenvalue -0.98668), at 1.01 it grows (-1.01335). The affine damping's
+// drag counts the same, and a drag adds to the contacts' damping in the bound.
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_drag_alone_is_stable_below_m_over_gamma, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    using Sim = mm::Simulation<dim, mm::FrictionalLinear, mm::NoWalls, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping,
+                               mm::AffineDamping>;
+    const double m = 1e-5, a = 1e-3, inertia = 0.4 * m * a * a, gamma = 2e-3;
+    for (const bool spin : {false, true}) {
+        for (const bool affine : {false, true}) {
+            const mm::BackgroundDamping lab = spin ? mm::BackgroundDamping(0.0, gamma * a * a) : mm::BackgroundDamping(gamma, 0.0);
+            const mm::AffineDamping flow = spin ? mm::AffineDamping(0.0, gamma * a * a) : mm::AffineDamping(gamma, 0.0);
+            auto scene = [&] {
+                Sim sim(frictional, {}, {}, {}, {}, affine ? mm::BackgroundDamping() : lab, affine ? flow : mm::AffineDamping());
+                sim.particles().add(V::Zero(), a, m);
+                sim.particles().velocity()[0] = V::Constant(0.1);
+                spin_up(sim.particles().template get<mm::field::AngularVelocity>()[0]);
+                return sim;
+            };
+            const double limit = spin ? inertia / (gamma * a * a) : m / gamma;  // I / gamma_r, m / gamma_b
+            BOOST_TEST(scene().stable_time_step() == limit, tt::tolerance(1e-14));
+            auto motion = [&](const Sim& sim) {
+                return spin ? magnitude(sim.particles().template get<mm::field::AngularVelocity>()[0]) : sim.particles().velocity()[0].norm();
+            };
+            for (const double fraction : {0.99, 1.01}) {
+                Sim sim = scene();
+                sim.set_time_step(fraction * limit);
+                if (fraction > 1.0) {
+                    BOOST_CHECK_THROW(sim.prepare(), mm::InputError);
+                    sim.allow_unstable_time_step(true);
+                }
+                // The other eigenvalue, 0.50 per step, leaves the motion within a few dozen steps;
+                // round-off then excites the slow mode, whose rate the last 100 of 1000 steps give.
+                sim.run(900);
+                const double before = motion(sim);
+                sim.run(100);
+                const double per_step = std::pow(motion(sim) / before, 1.0 / 100);
+                const double c = fraction, trace = 1 - 1.5 * c, det = -0.5 * c;  // c = gamma dt / m
+                const double slow = std::abs(trace - std::sqrt(trace * trace - 4 * det)) / 2;
+                BOOST_TEST(per_step == slow, tt::tolerance(1e-9));
+            }
+        }
+    }
+    // With a contact: the drag adds to the normal dashpot's damping (Eq. 22's oscillator with
+    // 2 eta = gamma_n (2/m) + gamma_b / m).
+    Sim pair(frictional, {}, {}, {}, {}, mm::BackgroundDamping(gamma, 0.0), mm::AffineDamping());
+    pair.particles().add(V::Zero(), a, m);
+    pair.particles().add(V::Constant(3 * a), a, m);
+    const mm::StiffnessBound b = frictional.stiffness_bound(0.5 * a, 0.5 * m);
+    const double normal = mm::VelocityVerlet::stability_limit(std::sqrt(b.normal_stiffness * 2 / m), 0.5 * (b.normal_damping * 2 / m + gamma / m));
+    BOOST_TEST(pair.stable_time_step() <= normal * (1 + 1e-14));
+    BOOST_TEST(pair.stable_time_step() < mm::normal_time_step_limit<mm::VelocityVerlet>(b.normal_stiffness, b.normal_damping, 2 / m));
 }
 
 // The elastic energy of each spring is split half and half between the two partners; a wall gives

@@ -129,8 +129,10 @@ public:
     /// The largest stable time step of the scene's stiffest two-body oscillation: the normal
     /// spring between the two lightest particles, with friction the tangential spring (its
     /// contact point moved by translation and, where particles turn, rotation), and a
-    /// stress-controlled wall on one particle (Eq. 22's oscillator, limits from the integrators).
-    /// Many contacts on one particle stiffen it further: this bound is necessary, not sufficient.
+    /// stress-controlled wall on one particle (Eq. 22's oscillator, limits from the integrators),
+    /// each damped also by the body forces' drag (background and affine damping), which alone
+    /// overshoots beyond dt = m / gamma_b. Many contacts on one particle stiffen it further: this
+    /// bound is necessary, not sufficient.
     double stable_time_step() const;
 
     /// Checks the scene, builds the neighbour lists and computes the forces. Called by the first
@@ -335,6 +337,7 @@ private:
 
     template <class F>
     double gravitational_energy(const F& force) const;
+    std::pair<double, double> drag_rates(std::size_t i) const;  // the body forces' on particle i: of v and of omega (1/s)
     // The particles this process computes: all but the ghosts (set_first_ghost).
     std::size_t owned_count() const { return std::min(first_ghost_, particles_.size()); }
 

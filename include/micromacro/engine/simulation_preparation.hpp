@@ -32,21 +32,31 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     bool any_wall = false;
     if constexpr (has_walls) any_wall = walls_.size() > 0;
     const std::size_t n = particles_.size();
-    if (n < 2 && !any_wall) return std::numeric_limits<double>::infinity();  // nothing to touch
+    const bool contacts = n > 1 || any_wall;  // else nothing to touch, but a drag may act
     // Each particle on its stiffest partner: a particle like itself (the lightest pair of a
     // polydisperse packing is at least as stable), or a wall when it is alone. The law bounds its
-    // stiffness for that pair's effective radius and mass.
+    // stiffness for that pair's effective radius and mass. A drag of the body forces (background
+    // and affine damping) adds its rate to the contact's damping: on the pair's relative motion it
+    // acts at each partner's rate; on the tangential one, which mixes sliding and turning, the
+    // larger of the two rates bounds it.
     const double partners = n > 1 ? 2.0 : 1.0;
     const auto& r = particles_.radius();
     const auto& inverse_mass = particles_.template get<field::InverseMass>();
     double limit = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < n; ++i) {
         const double a = r[i], inv = inverse_mass[i];
+        const auto [drag, spin_drag] = drag_rates(i);
+        limit = std::min({limit, Integrator::stability_limit(0.0, 0.5 * drag), Integrator::stability_limit(0.0, 0.5 * spin_drag)});
+        if (!contacts) continue;
         const StiffnessBound b = law_.stiffness_bound(n > 1 ? 0.5 * a : a, 1.0 / (partners * inv));
-        limit = std::min(limit, normal_time_step_limit<Integrator>(b.normal_stiffness, b.normal_damping, partners * inv));
-        if constexpr (has_tangential)
-            limit = std::min(limit, tangential_time_step_limit<Integrator>(b.tangential_stiffness, b.tangential_damping,
-                                                                           partners * particles_.contact_point_mobility(i)));
+        const double pair_inv = partners * inv;
+        limit = std::min(limit, Integrator::stability_limit(std::sqrt(b.normal_stiffness * pair_inv),
+                                                            0.5 * (b.normal_damping * pair_inv + drag)));
+        if constexpr (has_tangential) {
+            const double mobility = partners * particles_.contact_point_mobility(i);
+            limit = std::min(limit, Integrator::stability_limit(std::sqrt(b.tangential_stiffness * mobility),
+                                                                0.5 * (b.tangential_damping * mobility + std::max(drag, spin_drag))));
+        }
         if constexpr (has_walls) {  // a stress-controlled wall on one contact
             const double on_wall = law_.stiffness_bound(a, 1.0 / inv).normal_stiffness;
             for (const auto& w : walls_)
@@ -55,6 +65,27 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         }
     }
     return limit;
+}
+
+/// The body forces' drag rates on particle i, translational and rotational (1/s), summed over
+/// the policies that have a drag (drag_rate, as BackgroundDamping's).
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::drag_rates(std::size_t i) const
+    -> std::pair<double, double> {
+    const double inv_m = particles_.template get<field::InverseMass>()[i];
+    double inv_I = 0.0;
+    if constexpr (rotation) inv_I = particles_.template get<field::InverseInertia>()[i];
+    double drag = 0.0, spin_drag = 0.0;
+    std::apply([&](const auto&... force) {
+        [[maybe_unused]] auto add = [&](const auto& f) {
+            if constexpr (requires { f.drag_rate(inv_m); }) {
+                drag += f.drag_rate(inv_m);
+                if constexpr (rotation) spin_drag += f.spin_drag_rate(inv_I);
+            }
+        };
+        (add(force), ...);
+    }, body_forces_);
+    return {drag, spin_drag};
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
@@ -71,7 +102,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     const double limit = stable_time_step();
     if (dt_ > limit && !allow_unstable_)
         detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit,
-                                  " s of the stiffest contact (lightest particles); use dt <= ", limit,
+                                  " s of the stiffest contact or strongest drag (lightest particles); use dt <= ", limit,
                                   " (the paper uses t_c/50), or allow_unstable_time_step(true) to run anyway");
     for (auto& x : particles_.position()) {
         V wrapped = convert<double>(x);

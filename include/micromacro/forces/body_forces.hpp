@@ -33,6 +33,12 @@ struct BackgroundDamping {
         detail::require_non_negative(gamma_r, "rotational background damping gamma_r", "use 0 to switch it off");
     }
 
+    /// The drag's decay rates of a particle's velocity and spin, gamma_b / m and gamma_r / I
+    /// (1/s): the engine's time-step check (BasicSimulation::stable_time_step) adds them to the
+    /// damping of the particle's contacts, and an explicit drag overshoots beyond dt = 1 / rate.
+    double drag_rate(double inverse_mass) const { return translational * inverse_mass; }
+    double spin_drag_rate(double inverse_inertia) const { return rotational * inverse_inertia; }
+
     template <bool track_energy, int dim, bool rot, class Real>
     void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, std::size_t count = all_particles) const {
         // One pass, raw pointers and local constants (through the members the compiler reloaded
@@ -78,6 +84,12 @@ struct AffineDamping {
         detail::require_non_negative(gamma_b, "affine damping gamma_b", "use 0 to switch it off");
         detail::require_non_negative(gamma_r, "rotational affine damping gamma_r", "use 0 to switch it off");
     }
+
+    /// The drag's decay rates of a particle's velocity and spin, gamma_b / m and gamma_r / I
+    /// (1/s): the engine's time-step check (BasicSimulation::stable_time_step) adds them to the
+    /// damping of the particle's contacts, and an explicit drag overshoots beyond dt = 1 / rate.
+    double drag_rate(double inverse_mass) const { return translational * inverse_mass; }
+    double spin_drag_rate(double inverse_inertia) const { return rotational * inverse_inertia; }
 
     template <bool track_energy, int dim, bool rot, class Real>
     void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, const AffineField<dim>& field,
