@@ -28,7 +28,6 @@ public:
     /// Splits `whole` (the same prepared scene on every rank: built, or loaded from a state) over
     /// the ranks of `comm`, `threads` threads each. `whole` is the engine whole() fills later.
     DistributedScene(MPI_Comm comm, Sim& whole, int threads) : comm_(comm), whole_(whole), threads_(threads) {
-        MPI_Comm_rank(comm, &rank_);
         continue_from(whole);
     }
 
@@ -61,13 +60,12 @@ public:
         run_.emplace(comm_, whole, Run::Start::resume);
         run_->set_threads(threads_);
     }
-    bool writes() const { return rank_ == 0; }
     Run& distributed_run() { return *run_; }
 
 private:
     MPI_Comm comm_;
     Sim& whole_;
-    int threads_, rank_ = 0;
+    int threads_;
     std::optional<Run> run_;
 };
 

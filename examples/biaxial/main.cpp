@@ -448,16 +448,6 @@ int run(const Config& c, const Plan& plan) {
     return 0;
 }
 
-#ifdef MICROMACRO_HAVE_MPI
-/// MPI for the life of the program (biaxial_mpi, under mpirun).
-struct MpiSession {
-    MpiSession(int& argc, char**& argv) { MPI_Init(&argc, &argv); }
-    ~MpiSession() { MPI_Finalize(); }
-    MpiSession(const MpiSession&) = delete;
-    MpiSession& operator=(const MpiSession&) = delete;
-};
-#endif
-
 /// Everything but the first process writes its standard output (the help, the progress, the
 /// summary: the same on each) to /dev/null, and its standard error too until the run starts (the
 /// command line's messages: the same on each); `speak` gives the latter back.
@@ -512,7 +502,7 @@ int run_scene(const Config& c, const Plan& plan, QuietOthers& others) {
 
 int main(int argc, char** argv) {
 #ifdef MICROMACRO_HAVE_MPI
-    const MpiSession mpi(argc, argv);
+    const micromacro::mpi::Runtime mpi(argc, argv);  // biaxial_mpi, under mpirun
 #endif
     QuietOthers others;
     Config c;

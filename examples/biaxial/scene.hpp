@@ -46,8 +46,6 @@ public:
     void continue_from(Sim& whole) {
         if (!whole.prepared()) whole.prepare();
     }
-    /// The process that writes the files every process would write alike.
-    bool writes() const { return true; }
 
 private:
     Sim& sim_;

@@ -84,7 +84,7 @@ int run(const Options& o) {
 }  // namespace
 
 int main(int argc, char** argv) {
-    MPI_Init(&argc, &argv);
+    const micromacro::mpi::Runtime mpi(argc, argv);
     Options o;
     CLI::App app{"Particle-steps per second of the serial engine over MPI ranks (run under mpirun)"};
     app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
@@ -107,6 +107,5 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "throughput_mpi: %s\n", e.what());
         status = 1;
     }
-    MPI_Finalize();
     return status;
 }

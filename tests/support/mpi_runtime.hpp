@@ -2,11 +2,10 @@
 // MPI started before a test module's cases and finished after them (BOOST_TEST_GLOBAL_FIXTURE).
 #include <mpi.h>
 
+#include <micromacro/mpi/communicator.hpp>
+
 namespace mmtest {
-struct MpiRuntime {
-    MpiRuntime() { MPI_Init(nullptr, nullptr); }
-    ~MpiRuntime() { MPI_Finalize(); }
-};
+struct MpiRuntime : micromacro::mpi::Runtime {};
 
 /// This process's rank in MPI_COMM_WORLD, and how many ranks it has.
 inline int world_rank() {

@@ -49,14 +49,11 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         limit = std::min({limit, Integrator::stability_limit(0.0, 0.5 * drag), Integrator::stability_limit(0.0, 0.5 * spin_drag)});
         if (!contacts) continue;
         const StiffnessBound b = law_.stiffness_bound(n > 1 ? 0.5 * a : a, 1.0 / (partners * inv));
-        const double pair_inv = partners * inv;
-        limit = std::min(limit, Integrator::stability_limit(std::sqrt(b.normal_stiffness * pair_inv),
-                                                            0.5 * (b.normal_damping * pair_inv + drag)));
-        if constexpr (has_tangential) {
-            const double mobility = partners * particles_.contact_point_mobility(i);
-            limit = std::min(limit, Integrator::stability_limit(std::sqrt(b.tangential_stiffness * mobility),
-                                                                0.5 * (b.tangential_damping * mobility + std::max(drag, spin_drag))));
-        }
+        limit = std::min(limit, normal_time_step_limit<Integrator>(b.normal_stiffness, b.normal_damping, partners * inv, drag));
+        if constexpr (has_tangential)
+            limit = std::min(limit, tangential_time_step_limit<Integrator>(b.tangential_stiffness, b.tangential_damping,
+                                                                           partners * particles_.contact_point_mobility(i),
+                                                                           std::max(drag, spin_drag)));
         if constexpr (has_walls) {  // a stress-controlled wall on one contact
             const double on_wall = law_.stiffness_bound(a, 1.0 / inv).normal_stiffness;
             for (const auto& w : walls_)

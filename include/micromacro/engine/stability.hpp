@@ -12,10 +12,11 @@ namespace micromacro {
 
 /// The largest stable dt of a contact's normal spring and dashpot between bodies of combined
 /// inverse mass `inverse_mass` (1/m_i + 1/m_j; 1/m for a particle on a wall), integrated by
-/// `Integrator`.
+/// `Integrator`, with a drag of the bodies' own (background damping) decaying their relative
+/// velocity at `drag_rate` (1/s) besides.
 template <class Integrator>
-double normal_time_step_limit(double stiffness, double damping, double inverse_mass) {
-    return Integrator::stability_limit(std::sqrt(stiffness * inverse_mass), 0.5 * damping * inverse_mass);
+double normal_time_step_limit(double stiffness, double damping, double inverse_mass, double drag_rate = 0.0) {
+    return Integrator::stability_limit(std::sqrt(stiffness * inverse_mass), 0.5 * (damping * inverse_mass + drag_rate));
 }
 /// The same for a normal model with constant stiffness() and damping().
 template <class Integrator, class NormalLaw>
@@ -27,8 +28,8 @@ double normal_time_step_limit(const NormalLaw& normal, double inverse_mass) {
 /// mobility of the contact point, the sum over both partners of 1/m + a^2/I with rotation
 /// (3.5/m for a sphere, 3/m for a disk) and of 1/m without.
 template <class Integrator>
-double tangential_time_step_limit(double stiffness, double damping, double mobility) {
-    return Integrator::stability_limit(std::sqrt(stiffness * mobility), 0.5 * damping * mobility);
+double tangential_time_step_limit(double stiffness, double damping, double mobility, double drag_rate = 0.0) {
+    return Integrator::stability_limit(std::sqrt(stiffness * mobility), 0.5 * (damping * mobility + drag_rate));
 }
 /// The same for a tangential model with constant stiffness() and damping().
 template <class Integrator, class TangentialLaw>

@@ -27,6 +27,17 @@ inline void check(int code, const char* what) {
     micromacro::detail::throw_input_error(what, " failed: ", std::string(text, static_cast<std::size_t>(length)));
 }
 
+/// MPI for the life of the object: MPI_Init when made (with main's arguments, or none), and
+/// MPI_Finalize when it goes. A program's main, or a test module's global fixture, holds one.
+class Runtime {
+public:
+    Runtime() { MPI_Init(nullptr, nullptr); }
+    Runtime(int& argc, char**& argv) { MPI_Init(&argc, &argv); }
+    ~Runtime() { MPI_Finalize(); }
+    Runtime(const Runtime&) = delete;
+    Runtime& operator=(const Runtime&) = delete;
+};
+
 template <int dim>
 class CartesianComm {
 public:
