@@ -117,8 +117,8 @@ int main(int argc, char** argv) {
     app.add_option("timeseries", input, "timeseries.csv of a biaxial run")->required();
     app.add_option("--out", out, "directory for the PNG files (created)")->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT")->capture_default_str();
-    app.add_option("--k", k, "normal stiffness k (N/m) to scale C^n")->capture_default_str();
-    app.add_option("--kt-ratio", kt_ratio, "k_t / k to scale C^t")->capture_default_str();
+    app.add_option("--k", k, "normal stiffness k (N/m) to scale C^n")->check(micromacro::cli::positive())->capture_default_str();
+    app.add_option("--kt-ratio", kt_ratio, "k_t / k to scale C^t")->check(micromacro::cli::positive())->capture_default_str();
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         const auto [width, height] = viz::parse_size(size);

@@ -202,15 +202,15 @@ int main(int argc, char** argv) {
     app.add_option("--particles", o.particles, "how many (at least 4)")->check(CLI::Range(std::size_t{4}, std::size_t{1} << 32))->capture_default_str();
     app.add_option("--radii", o.radii, "smallest and largest radius (m); radii are uniform between them")->expected(2)->capture_default_str();
     app.add_option("--pressure", o.pressure, "the pressure to end at: p / k in 2D, p a / k in 3D (a the mean radius)")
-        ->check(CLI::Range(1e-6, 1e-2))
+        ->check(micromacro::cli::between(1e-6, 1e-2))
         ->capture_default_str();
-    app.add_option("--k", o.k, "normal stiffness (N/m) while preparing")->check(CLI::PositiveNumber)->capture_default_str();
-    app.add_option("--kt", o.kt, "tangential stiffness (N/m) while preparing")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_option("--k", o.k, "normal stiffness (N/m) while preparing")->check(micromacro::cli::positive())->capture_default_str();
+    app.add_option("--kt", o.kt, "tangential stiffness (N/m) while preparing")->check(micromacro::cli::positive())->capture_default_str();
     app.add_option("--mu", o.mu, "friction coefficient while preparing (0: frictionless, which may never come to rest)")
-        ->check(CLI::NonNegativeNumber)
+        ->check(micromacro::cli::non_negative())
         ->capture_default_str();
-    app.add_option("--gamma-n", o.gamma_n, "normal and tangential damping (kg/s) while preparing")->check(CLI::NonNegativeNumber)->capture_default_str();
-    app.add_option("--density", o.density, "particle density (kg/m^3)")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_option("--gamma-n", o.gamma_n, "normal and tangential damping (kg/s) while preparing")->check(micromacro::cli::non_negative())->capture_default_str();
+    app.add_option("--density", o.density, "particle density (kg/m^3)")->check(micromacro::cli::positive())->capture_default_str();
     app.add_option("--seed", o.seed, "random seed of the radii and the placement")->capture_default_str();
     app.add_option("--out", o.out, "the LAMMPS dump to write")->required();
     app.add_flag("--overwrite", o.overwrite, "replace --out if it exists");

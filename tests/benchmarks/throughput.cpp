@@ -243,10 +243,10 @@ int main(int argc, char** argv) {
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
     app.add_option("--density", o.density, "particle density (kg/m^3): masses, and t_c")->capture_default_str();
     auto* fraction = app.add_option("--dt-fraction", o.dt_fraction, "dt = t_c / this, t_c of two particles of the mean radius")
-                         ->check(CLI::PositiveNumber)
+                         ->check(micromacro::cli::positive())
                          ->capture_default_str();
-    app.add_option("--dt", o.dt, "the time step in s instead")->check(CLI::PositiveNumber)->excludes(fraction);
-    app.add_option("--skin", o.skin, "neighbour-list skin in m (default: a fifth of the mean radius)")->check(CLI::PositiveNumber);
+    app.add_option("--dt", o.dt, "the time step in s instead")->check(micromacro::cli::positive())->excludes(fraction);
+    app.add_option("--skin", o.skin, "neighbour-list skin in m (default: a fifth of the mean radius)")->check(micromacro::cli::positive());
     app.add_option("--threads", o.threads, "threads (OpenMP)")->capture_default_str();
     app.add_flag("--shuffle", o.shuffle, "number the particles in random order first");
     app.add_flag("--sort", o.sort, "renumber the particles in row order (sort_spatially) before timing; "

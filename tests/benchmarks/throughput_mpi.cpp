@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cstdio>
 #include <numeric>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -89,7 +90,7 @@ int main(int argc, char** argv) {
     CLI::App app{"Particle-steps per second of the serial engine over MPI ranks (run under mpirun)"};
     app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
     app.add_option("--particles", o.particles, "particles of the lattice")->capture_default_str();
-    app.add_option("--steps", o.steps, "time steps to time")->check(CLI::PositiveNumber)->capture_default_str();
+    app.add_option("--steps", o.steps, "time steps to time")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
     app.add_option("--k", o.k, "normal stiffness (N/m)")->capture_default_str();
     app.add_option("--gamma-n", o.gamma_n, "normal damping gamma_0 (kg/s)")->capture_default_str();
     app.add_option("--kt", o.kt, "tangential stiffness (N/m)")->capture_default_str();
@@ -97,15 +98,23 @@ int main(int argc, char** argv) {
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
     app.add_flag("--json", o.json, "one JSON line instead of text");
     app.add_flag("--no-energy", o.no_energy, "without the energy books (on by default, as in the serial throughput)");
+    // Every rank reads the same command line and refuses the same input: the first rank says so.
+    int rank = 0;
+    MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     int status = 0;
     try {
         app.parse(argc, argv);
         status = o.dim == 2 ? run<2>(o) : run<3>(o);
     } catch (const CLI::ParseError& e) {
-        status = app.exit(e);
-    } catch (const std::exception& e) {
-        std::fprintf(stderr, "throughput_mpi: %s\n", e.what());
+        std::ostringstream silent;
+        status = rank == 0 ? app.exit(e) : app.exit(e, silent, silent);
+        if (status != 0) status = 1;
+    } catch (const micromacro::InputError& e) {
+        if (rank == 0) std::fprintf(stderr, "throughput_mpi: %s\n", e.what());
         status = 1;
+    } catch (const std::exception& e) {  // may have stopped this rank alone: the others would wait for it
+        std::fprintf(stderr, "throughput_mpi (rank %d): %s\n", rank, e.what());
+        MPI_Abort(MPI_COMM_WORLD, 1);
     }
     return status;
 }

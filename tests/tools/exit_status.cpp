@@ -78,6 +78,38 @@ BOOST_AUTO_TEST_CASE(every_program_keeps_the_promise) {
     }
 }
 
+// A number outside its option's rule is refused by name, value and rule, before anything is
+// written: not CLI11's own range up to 1.8e308, and never nan or inf taken as given (throughput
+// ran with its default skin for --skin nan) or passed to a plot as a scale.
+BOOST_AUTO_TEST_CASE(a_number_outside_its_rule_is_refused_by_name_value_and_rule) {
+    const std::string out = (work / "out").string();
+    const std::multimap<std::string, std::pair<std::string, std::string>> cases = {  // program, (arguments, what the rule says)
+        {"throughput", {"--skin nan", "--skin: nan is not a finite number above 0"}},
+        {"throughput", {"--dt 0", "--dt: 0 is not a finite number above 0"}},
+        {"throughput", {"--dt-fraction inf", "--dt-fraction: inf is not a finite number above 0"}},
+        {"random_packing", {"--k 0 --out " + out, "--k: 0 is not a finite number above 0"}},
+        {"random_packing", {"--gamma-n -1 --out " + out, "--gamma-n: -1 is not a finite number of 0 or more"}},
+        {"random_packing", {"--pressure nan --out " + out, "--pressure: nan is not a finite number from 1e-06 to 0.01"}},
+        {"plot_timeseries", {"timeseries.csv --k nan --out " + out, "--k: nan is not a finite number above 0"}},
+        {"plot_timeseries", {"timeseries.csv --kt-ratio 0 --out " + out, "--kt-ratio: 0 is not a finite number above 0"}},
+    };
+    std::size_t checked = 0;
+    for (const auto& [name, path] : programs_built) {
+        for (auto [c, end] = cases.equal_range(name); c != end; ++c) {
+            BOOST_TEST_CONTEXT(name << " " << c->second.first) {
+                fs::remove_all(work);
+                const auto refused = mmtest::run_program(path, c->second.first, work);
+                BOOST_TEST(refused.exit_code() == 1);
+                BOOST_TEST(refused.err.find(c->second.second) != std::string::npos, refused.err);
+                BOOST_TEST(refused.err.find("1797693") == std::string::npos, refused.err);
+                BOOST_TEST(!fs::exists(work / "out"));
+                ++checked;
+            }
+        }
+    }
+    BOOST_TEST(checked >= 6u);  // throughput and random_packing are always built with the tests
+}
+
 // A result that cannot be written is an error: standard output on a full disk (/dev/full).
 BOOST_AUTO_TEST_CASE(a_full_standard_output_is_an_error) {
     fs::remove_all(work);
