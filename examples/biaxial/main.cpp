@@ -594,6 +594,7 @@ int main(int argc, char** argv) {
                                           "; drop ", name);
         biaxial::validate(c);
         micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
+        micromacro::check_thread_count(plan.threads);  // before the output folder is made
         biaxial::on_first([&] { claim_output_folder(out, overwrite, plan.from_prepared); });
         plan.out = out;
         plan.run_id = biaxial::as_on_first(biaxial::first_process() ? new_run_id() : "");

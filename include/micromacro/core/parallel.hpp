@@ -3,6 +3,8 @@
 // chosen by Simulation::set_threads; without it the pragmas vanish (no unknown-pragma warnings).
 #include <cstddef>
 
+#include "micromacro/core/error.hpp"
+
 #ifdef _OPENMP
 #include <omp.h>
 #define MICROMACRO_OMP(directive) _Pragma(#directive)
@@ -26,3 +28,21 @@ inline int thread_number() {
 }
 
 }  // namespace micromacro::detail
+
+namespace micromacro {
+
+/// Refuses a thread count the engine cannot run (Simulation::set_threads): 1 up to four times
+/// OpenMP's threads, or 1 without OpenMP. Programs check it before they write anything.
+inline void check_thread_count(int threads) {
+#ifdef _OPENMP
+    if (threads < 1 || threads > omp_get_max_threads() * 4)
+        detail::throw_input_error("threads = ", threads, " is outside 1..", omp_get_max_threads() * 4,
+                                  "; use up to the number of cores (", omp_get_num_procs(), " here)");
+#else
+    if (threads != 1)
+        detail::throw_input_error("threads = ", threads, " needs OpenMP, but this program was compiled without "
+                                  "it; compile with -fopenmp (CMake: link OpenMP::OpenMP_CXX) or use 1 thread");
+#endif
+}
+
+}  // namespace micromacro

@@ -14,15 +14,7 @@ namespace micromacro {
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline void BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::set_threads(int threads) {
-#ifdef _OPENMP
-    if (threads < 1 || threads > omp_get_max_threads() * 4)
-        detail::throw_input_error("threads = ", threads, " is outside 1..", omp_get_max_threads() * 4,
-                                  "; use up to the number of cores (", omp_get_num_procs(), " here)");
-#else
-    if (threads != 1)
-        detail::throw_input_error("threads = ", threads, " needs OpenMP, but this program was compiled without "
-                                  "it; compile with -fopenmp (CMake: link OpenMP::OpenMP_CXX) or use 1 thread");
-#endif
+    check_thread_count(threads);
     threads_ = threads;
 }
 
