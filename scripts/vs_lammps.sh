@@ -12,19 +12,22 @@
 # p/k = 5e-4 in 2D, p a/k = 5e-4 in 3D), in the order the preparation left them; and the throughput
 # benchmark's jittered lattices (--write-packing). Two threads: micromacro's OpenMP threads against
 # two MPI ranks of LAMMPS (Debian's LAMMPS has no OPENMP package; MPI domain decomposition is how it
-# runs in parallel).
+# runs in parallel). Two ranks: micromacro's MPI layer (tests/benchmarks/throughput_mpi --packing)
+# against LAMMPS's, both under mpirun on the same packing (skipped, and said so, in a build without MPI).
 #
 #   scripts/vs_lammps.sh > docs/vs-lammps.md   # 3 rounds, about 10 minutes on 2 cores (packings: 5 more, once)
 #   RUNS=5 scripts/vs_lammps.sh
 #   NATIVE=1 scripts/vs_lammps.sh        # also a LAMMPS built -O3 -march=native from Debian's source
 #                                        # (downloaded and built once into ~/.cache, about 15 minutes)
-#   CASES=$'random3d_50000 3 1\nlattice2d_80000 2 2' scripts/vs_lammps.sh   # other cases, one per line:
-#                                        # random2d_N, random3d_N, lattice2d_N or lattice3d_N, dim, threads
+#   CASES=$'random3d_50000 3 1\nlattice2d_80000 2 2 ranks' scripts/vs_lammps.sh   # other cases, one per line:
+#                                        # random2d_N, random3d_N, lattice2d_N or lattice3d_N, dim, threads,
+#                                        # and "ranks" for MPI ranks instead of threads
 # Installs Debian's lammps if it is missing. Needs a build (scripts/setup.sh test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 build=${BUILD_DIR:-build}
 tp=$build/tests/benchmarks/throughput
+tpm=$build/tests/benchmarks/throughput_mpi
 rp=$build/examples/random_packing
 for program in "$tp" "$rp"; do
   [ -x "$program" ] || { echo "vs_lammps.sh: no $program; build first (scripts/setup.sh test)" >&2; exit 1; }
@@ -96,6 +99,11 @@ micromacro() {
   "$tp" --packing "$1" --dim "$2" --threads "$3" --steps "$4" --k $k --kt $kt --mu $mu --gamma-n 0 --gamma-t 0 \
     --density $density --no-energy --json
 }
+# micromacro_ranks DUMP DIM RANKS STEPS -> its JSON line (throughput_mpi: the same law, t_c, skin)
+micromacro_ranks() {
+  mpirun -np "$3" "$tpm" --packing "$1" --dim "$2" --steps "$4" --k $k --kt $kt --mu $mu --gamma-n 0 --gamma-t 0 \
+    --density $density --no-energy --json
+}
 # lammps BINARY RANKS DATA DIM DT SKIN STEPS -> "particle-steps/s total-mass"
 lammps() {
   local launch=("$1")
@@ -107,10 +115,11 @@ lammps() {
 median() { sort -g | awk '{ v[NR] = $1 } END { printf "%.3g\n", v[int((NR + 1) / 2)] }'; }
 json() { grep -o "\"$2\": [^,}]*" <<<"$1" | head -1 | cut -d' ' -f2 | tr -d '"'; }
 
-# packing dim threads
+# packing dim threads [ranks]
 cases=(
   "random2d_1950 2 1" "random2d_20000 2 1" "lattice2d_20000 2 1" "random2d_20000 2 2"
   "random3d_13824 3 1" "lattice3d_13824 3 1" "random3d_13824 3 2"
+  "lattice2d_200000 2 2 ranks" "lattice3d_100000 3 2 ranks"
 )
 [ -z "${CASES:-}" ] || mapfile -t cases <<<"$CASES"
 help=$(lmp -h 2>/dev/null || true)
@@ -123,7 +132,7 @@ echo "Each program's median particle-steps per second over $rounds rounds, the t
 echo "round, and the median of the rounds' ratios (micromacro / LAMMPS). The same law (k = 1e5 N/m, k_t = 2e4 N/m,"
 echo "mu = 0.5, no dashpots), time step (t_c/50 of two mean particles), skin (a fifth of the mean radius) and steps;"
 echo "micromacro without its energy books (\`--no-energy\`), as LAMMPS keeps none. Two threads: micromacro's"
-echo "threads against two MPI ranks of LAMMPS."
+echo "threads against two MPI ranks of LAMMPS; two ranks: two MPI ranks of each (micromacro's \`throughput_mpi\`)."
 echo
 header="| packing | particles | contacts per particle | threads | micromacro | LAMMPS (Debian) | ratio |"
 rule="|---|---|---|---|---|---|---|"
@@ -131,7 +140,11 @@ if [ -n "$native" ]; then header="$header LAMMPS -O3 -march=native | ratio |"; r
 echo "$header"
 echo "$rule"
 for c in "${cases[@]}"; do
-  read -r name dim threads <<<"$c"
+  read -r name dim threads over <<<"$c"
+  if [ "$over" = ranks ] && [ ! -x "$tpm" ]; then
+    echo "| ${name%%_*} | ${name#*_} | | $threads ranks | (no $tpm: a build without MPI) | | |"
+    continue
+  fi
   dump=$(packing "$name")
   file=$(data "$dump")
   probe=$(micromacro "$dump" "$dim" 1 1)
@@ -140,11 +153,14 @@ for c in "${cases[@]}"; do
   dt=$(json "$probe" dt) skin=$(json "$probe" skin) contacts=$(json "$probe" contacts)
   expected=$(total_mass "$dump")
   mm=() lm=() ln=() rl=() rn=()
+  ours() {  # this case's micromacro run: threads, or MPI ranks
+    if [ "$over" = ranks ]; then micromacro_ranks "$dump" "$dim" "$threads" "$steps"; else micromacro "$dump" "$dim" "$threads" "$steps"; fi
+  }
   for round in $(seq "$rounds"); do
     if (( round % 2 )); then
-      a=$(json "$(micromacro "$dump" "$dim" "$threads" "$steps")" particle_steps_per_second); read -r b mass < <(lammps lmp "$threads" "$file" "$dim" "$dt" "$skin" "$steps")
+      a=$(json "$(ours)" particle_steps_per_second); read -r b mass < <(lammps lmp "$threads" "$file" "$dim" "$dt" "$skin" "$steps")
     else
-      read -r b mass < <(lammps lmp "$threads" "$file" "$dim" "$dt" "$skin" "$steps"); a=$(json "$(micromacro "$dump" "$dim" "$threads" "$steps")" particle_steps_per_second)
+      read -r b mass < <(lammps lmp "$threads" "$file" "$dim" "$dt" "$skin" "$steps"); a=$(json "$(ours)" particle_steps_per_second)
     fi
     awk -v m="$mass" -v e="$expected" 'BEGIN { exit !(m / e - 1 < 1e-9 && 1 - m / e < 1e-9) }' ||
       { echo "vs_lammps.sh: LAMMPS's total mass $mass is not the packing's $expected: the two would run different scenes" >&2; exit 1; }
@@ -154,7 +170,7 @@ for c in "${cases[@]}"; do
       ln+=("$b") rn+=("$(awk -v a="$a" -v b="$b" 'BEGIN { print a / b }')")
     fi
   done
-  row="| ${name%%_*} | $n | $(awk -v c="$contacts" -v n="$n" 'BEGIN { printf "%.2f", 2 * c / n }') | $threads"
+  row="| ${name%%_*} | $n | $(awk -v c="$contacts" -v n="$n" 'BEGIN { printf "%.2f", 2 * c / n }') | $threads${over:+ $over}"
   row="$row | $(printf '%s\n' "${mm[@]}" | median) | $(printf '%s\n' "${lm[@]}" | median) | $(printf '%s\n' "${rl[@]}" | median | awk '{ printf "%.2f", $1 }') |"
   if [ -n "$native" ]; then
     if [ "${#ln[@]}" -gt 0 ]; then

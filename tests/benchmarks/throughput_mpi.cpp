@@ -5,10 +5,12 @@
 //
 //   mpirun -np 2 throughput_mpi --dim 2 --particles 200000 --steps 200
 //   mpirun -np 2 throughput_mpi --particles 200000 --gamma-n 0 --gamma-t 0   # the law of scripts/vs_lammps.sh
+//   mpirun -np 2 throughput_mpi --packing spheres.dump --gamma-n 0 --gamma-t 0   # a packing file, as throughput's
 //
-// Every rank builds the whole lattice and keeps its own part: the set-up's memory grows with the
-// whole scene (fine for the sizes timed here), the steps' with a rank's part. Timed: the steps,
-// between barriers, after the first forces.
+// Every rank builds the whole lattice (or reads the whole file) and keeps its own part: the
+// set-up's memory grows with the whole scene (fine for the sizes timed here), the steps' with a
+// rank's part. The time step is throughput's: t_c / 50 of two particles of the mean radius (Eq. 22).
+// Timed: the steps, between barriers, after the first forces.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -20,6 +22,7 @@
 #include <CLI/CLI.hpp>
 #include <mpi.h>
 
+#include <micromacro/io/packing_files.hpp>
 #include <micromacro/micromacro.hpp>
 #include <micromacro/mpi/distributed_run.hpp>
 
@@ -33,6 +36,9 @@ struct Options {
     int dim = 2;
     std::size_t particles = 20000, steps = 200;
     double k = 1e5, kt = 2e4, mu = 0.5, gamma_n = 0.1, gamma_t = 0.02;  // throughput's defaults, the paper's
+    double density = 2000.0;
+    std::string packing;                                                  // a file instead of the lattice
+    mm::io::PackingFormat format = mm::io::PackingFormat::csv;
     bool json = false, no_energy = false;
 };
 
@@ -40,13 +46,22 @@ template <int dim>
 int run(const Options& o) {
     std::vector<mm::Vec<dim>> x;
     std::vector<double> r;
-    double L = 0.0;
-    benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
-    const double density = 2000.0;
+    mm::Domain<dim> domain;
+    if (o.packing.empty()) {
+        double L = 0.0;
+        benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
+        domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
+    } else {  // box and periodic axes from the dump (a CSV's: the particles' extent, no periodic axis)
+        auto f = mm::io::read_packing<dim>(o.packing, o.format);
+        domain = mm::io::packing_domain<dim>(f, {}, "");
+        x = std::move(f.position);
+        r = std::move(f.radius);
+    }
     const mm::FrictionalLinear law{mm::LinearSpringDashpot(o.k, o.gamma_n), mm::CundallStrack(o.kt, o.gamma_t, o.mu)};
-    mm::BasicSimulation<dim, double, mm::FrictionalLinear> whole(law, mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L)));
-    for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(density, r[i]));
-    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(density, r[0]));
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> whole(law, domain);
+    for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(o.density, r[i]));
+    const double mean_radius = std::accumulate(r.begin(), r.end(), 0.0) / double(r.size());
+    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(o.density, mean_radius));
     whole.set_time_step(tc / 50);
     whole.set_track_energy(!o.no_energy);
     mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
@@ -88,8 +103,16 @@ int main(int argc, char** argv) {
     const micromacro::mpi::Runtime mpi(argc, argv);
     Options o;
     CLI::App app{"Particle-steps per second of the serial engine over MPI ranks (run under mpirun)"};
-    app.add_option("--dim", o.dim, "2 or 3")->check(CLI::IsMember({2, 3}))->capture_default_str();
-    app.add_option("--particles", o.particles, "particles of the lattice")->capture_default_str();
+    auto* dim = app.add_option("--dim", o.dim, "2 or 3 (with --packing: the file's, a CSV 3 if it has a y column)")
+                    ->check(CLI::IsMember({2, 3}))
+                    ->capture_default_str();
+    auto* particles = app.add_option("--particles", o.particles, "particles of the lattice")->capture_default_str();
+    app.add_option("--packing", o.packing,
+                   "time this packing instead: a LAMMPS dump (box and periodic axes from it) or a CSV as analyze_packing "
+                   "reads it (x,z,r in 2D, x,y,z,r in 3D)")
+        ->check(CLI::ExistingFile)
+        ->excludes(particles);
+    app.add_option("--density", o.density, "particle density (kg/m^3): masses, and t_c")->check(micromacro::cli::positive())->capture_default_str();
     app.add_option("--steps", o.steps, "time steps to time")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
     app.add_option("--k", o.k, "normal stiffness (N/m)")->capture_default_str();
     app.add_option("--gamma-n", o.gamma_n, "normal damping gamma_0 (kg/s)")->capture_default_str();
@@ -104,6 +127,10 @@ int main(int argc, char** argv) {
     int status = 0;
     try {
         app.parse(argc, argv);
+        if (!o.packing.empty()) {
+            o.format = mm::io::guess_format(o.packing);
+            if (dim->count() == 0) o.dim = mm::io::guess_dimension(o.packing, o.format);
+        }
         status = o.dim == 2 ? run<2>(o) : run<3>(o);
     } catch (const CLI::ParseError& e) {
         std::ostringstream silent;
