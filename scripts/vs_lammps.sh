@@ -142,7 +142,7 @@ echo "$rule"
 for c in "${cases[@]}"; do
   read -r name dim threads over <<<"$c"
   if [ "$over" = ranks ] && [ ! -x "$tpm" ]; then
-    echo "| ${name%%_*} | ${name#*_} | | $threads ranks | (no $tpm: a build without MPI) | | |"
+    echo "| ${name%%_*} | ${name#*_} | | $threads ranks | (no $tpm: a build without MPI) | | |${native:+ | |}"
     continue
   fi
   dump=$(packing "$name")
@@ -153,8 +153,13 @@ for c in "${cases[@]}"; do
   dt=$(json "$probe" dt) skin=$(json "$probe" skin) contacts=$(json "$probe" contacts)
   expected=$(total_mass "$dump")
   mm=() lm=() ln=() rl=() rn=()
-  ours() {  # this case's micromacro run: threads, or MPI ranks
-    if [ "$over" = ranks ]; then micromacro_ranks "$dump" "$dim" "$threads" "$steps"; else micromacro "$dump" "$dim" "$threads" "$steps"; fi
+  ours() {  # this case's micromacro run: threads, or MPI ranks (whose time step must be the probe's, LAMMPS's)
+    if [ "$over" != ranks ]; then micromacro "$dump" "$dim" "$threads" "$steps"; return; fi
+    local line
+    line=$(micromacro_ranks "$dump" "$dim" "$threads" "$steps")
+    [ "$(json "$line" dt)" = "$dt" ] ||
+      { echo "vs_lammps.sh: throughput_mpi took dt $(json "$line" dt), LAMMPS $dt: the two would run different scenes" >&2; exit 1; }
+    echo "$line"
   }
   for round in $(seq "$rounds"); do
     if (( round % 2 )); then
