@@ -156,21 +156,21 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(numbering_does_not_change_a_pair, D, Dims) {
                 if constexpr (dim == 2) w1 = 40.0, w2 = -15.0;
                 else w1 = V(10.0, -30.0, 25.0), w2 = V(-5.0, 12.0, 0.0);
                 const std::array<std::size_t, 2> slot = swapped ? std::array<std::size_t, 2>{1, 0} : std::array<std::size_t, 2>{0, 1};
-                for (std::size_t n = 0; n < 2; ++n) {
-                    const bool first = (slot[0] == n);
+                for (std::size_t number = 0; number < 2; ++number) {
+                    const bool first = (slot[0] == number);
                     sim.particles().add(first ? x1 : x2, first ? a1 : a2, first ? m1 : m2);
-                    sim.particles().velocity()[n] = first ? v1 : v2;
-                    sim.particles().template get<mm::field::AngularVelocity>()[n] = first ? w1 : w2;
+                    sim.particles().velocity()[number] = first ? v1 : v2;
+                    sim.particles().template get<mm::field::AngularVelocity>()[number] = first ? w1 : w2;
                 }
                 sim.set_track_energy(true);
                 sim.set_time_step(tc / 50);
-                sim.run(150);  // through the contact and out of it
+                sim.run(150);  // three contact durations: through the contact
                 std::vector<double> state;  // particle 1's, then particle 2's, whatever their numbers
-                for (const std::size_t n : slot) {
+                for (const std::size_t number : slot) {
                     const auto& p = sim.particles();
-                    for (int c = 0; c < dim; ++c) state.push_back(p.position()[n][c]), state.push_back(p.velocity()[n][c]);
-                    if constexpr (dim == 2) state.push_back(p.template get<mm::field::AngularVelocity>()[n]);
-                    else for (int c = 0; c < 3; ++c) state.push_back(p.template get<mm::field::AngularVelocity>()[n][c]);
+                    for (int c = 0; c < dim; ++c) state.push_back(p.position()[number][c]), state.push_back(p.velocity()[number][c]);
+                    if constexpr (dim == 2) state.push_back(p.template get<mm::field::AngularVelocity>()[number]);
+                    else for (int c = 0; c < 3; ++c) state.push_back(p.template get<mm::field::AngularVelocity>()[number][c]);
                 }
                 const auto& b = sim.books();
                 for (double x : {b.dissipated_normal, b.dissipated_tangential, b.dissipated_sliding}) state.push_back(x);
