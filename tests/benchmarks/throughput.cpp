@@ -43,7 +43,7 @@
 
 #include "../../examples/command_line.hpp"
 #include "../../examples/standard_output.hpp"
-#include "lattice.hpp"
+#include "timed_particles.hpp"
 
 namespace mm = micromacro;
 
@@ -91,19 +91,7 @@ constexpr bool fused_multiply_add = false;
 
 template <int dim, class Real, class Law>
 int run(const Options& o, const Law& law, const char* law_name) {
-    std::vector<mm::Vec<dim>> x;
-    std::vector<double> r;
-    mm::Domain<dim> domain;
-    if (o.packing.empty()) {
-        double L = 0;
-        benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
-        domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
-    } else {
-        auto f = mm::io::read_packing<dim>(o.packing, o.format);
-        domain = mm::io::packing_domain<dim>(f, o.box, o.periodic);
-        x = std::move(f.position);
-        r = std::move(f.radius);
-    }
+    auto [x, r, domain] = benchmark::timed_particles<dim>(o.packing, o.format, o.box, o.periodic, o.particles);
     if (o.shuffle) {  // the particles in random order, as random placement or a long flow leaves them
         std::vector<std::size_t> perm(x.size());
         std::iota(perm.begin(), perm.end(), std::size_t{0});
@@ -115,13 +103,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
         r.swap(rs);
     }
     if (!o.write_packing.empty()) mm::io::write_lammps_dump<dim>(o.write_packing, x, r, domain);
-    // Two particles of the mean radius set t_c (Eq. 22), as in the paper and the biaxial example.
-    const double mean_radius = std::accumulate(r.begin(), r.end(), 0.0) / double(r.size());
-    const double mean_mass = mm::sphere_mass(o.density, mean_radius);
-    if (!(std::isfinite(mean_mass) && mean_mass > 0.0))
-        mm::detail::throw_input_error("--density ", o.density, " kg/m^3 gives a particle of the mean radius ", mean_radius,
-                                      " m a mass of ", mean_mass, " kg; give a density that makes it finite and > 0 (2000 for glass)");
-    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mean_mass);
+    const double tc = benchmark::mean_contact_duration(r, o.density, o.k, o.gamma_n);
     const double dt = o.dt > 0.0 ? o.dt : tc / o.dt_fraction;
     if (!(std::isfinite(tc) && tc > 0.0 && std::isfinite(dt) && dt > 0.0))
         mm::detail::throw_input_error("--k ", o.k, " N/m with --density ", o.density, " kg/m^3 gives a contact duration t_c = ", tc,

@@ -14,7 +14,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <numeric>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -27,7 +26,7 @@
 #include <micromacro/mpi/distributed_run.hpp>
 
 #include "../../examples/command_line.hpp"
-#include "lattice.hpp"
+#include "timed_particles.hpp"
 
 namespace mm = micromacro;
 
@@ -44,25 +43,12 @@ struct Options {
 
 template <int dim>
 int run(const Options& o) {
-    std::vector<mm::Vec<dim>> x;
-    std::vector<double> r;
-    mm::Domain<dim> domain;
-    if (o.packing.empty()) {
-        double L = 0.0;
-        benchmark::fill_lattice<dim>(x, r, L, o.particles, 1);
-        domain = mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L));
-    } else {  // box and periodic axes from the dump (a CSV's: the particles' extent, no periodic axis)
-        auto f = mm::io::read_packing<dim>(o.packing, o.format);
-        domain = mm::io::packing_domain<dim>(f, {}, "");
-        x = std::move(f.position);
-        r = std::move(f.radius);
-    }
+    // A file's box and periodic axes are the dump's (a CSV's: the particles' extent, no periodic axis).
+    const auto [x, r, domain] = benchmark::timed_particles<dim>(o.packing, o.format, {}, "", o.particles);
     const mm::FrictionalLinear law{mm::LinearSpringDashpot(o.k, o.gamma_n), mm::CundallStrack(o.kt, o.gamma_t, o.mu)};
     mm::BasicSimulation<dim, double, mm::FrictionalLinear> whole(law, domain);
     for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(o.density, r[i]));
-    const double mean_radius = std::accumulate(r.begin(), r.end(), 0.0) / double(r.size());
-    const double tc = mm::contact_duration(o.k, o.gamma_n, 0.5 * mm::sphere_mass(o.density, mean_radius));
-    whole.set_time_step(tc / 50);
+    whole.set_time_step(benchmark::mean_contact_duration(r, o.density, o.k, o.gamma_n) / 50);
     whole.set_track_energy(!o.no_energy);
     mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
     MPI_Barrier(MPI_COMM_WORLD);
