@@ -9,10 +9,12 @@
 #   scripts/mpi_vs_serial.sh                      # 2D quick preset, seeds 1-6, 2 ranks
 #   DIM=3 SEEDS="1 2 3 4 5 6" RANKS=3 scripts/mpi_vs_serial.sh
 #   BASELINE_RANKS=3 scripts/mpi_vs_serial.sh    # and 3 ranks against 2: how far round-off alone takes runs apart
+#   ARGS="--particles 500" DIM=3 scripts/mpi_vs_serial.sh   # options of the serial run that prepares each packing
 # Needs build/examples/biaxial, biaxial_mpi and biaxial_summary (scripts/setup.sh test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
 dim=${DIM:-2} seeds=${SEEDS:-"1 2 3 4 5 6"} ranks=${RANKS:-2} preset=${PRESET:-quick}
+read -r -a args <<<"${ARGS:-}"
 build=${BUILD_DIR:-build}
 for p in biaxial biaxial_mpi biaxial_summary; do
   [ -x "$build/examples/$p" ] || { echo "mpi_vs_serial.sh: no $build/examples/$p; build first (scripts/setup.sh test)" >&2; exit 1; }
@@ -31,7 +33,8 @@ figures() {  # figures RUN_DIR: prints "name value" lines
     /late coordination, volume fraction/ { n = split($3, a, ", "); print "late_coordination", a[1]; print "late_volume_fraction", a[2] }'
 }
 for s in $seeds; do
-  "$build/examples/biaxial" --dim "$dim" --preset "$preset" --seed "$s" --vtk-every 0 --no-pictures --quiet --out "$work/serial_$s" >/dev/null
+  "$build/examples/biaxial" --dim "$dim" --preset "$preset" --seed "$s" "${args[@]}" --vtk-every 0 --no-pictures --quiet \
+    --out "$work/serial_$s" >/dev/null
   figures "$work/serial_$s" | sed "s/^/serial $s /"
   for r in $ranks ${BASELINE_RANKS:-}; do
     mpirun -np "$r" --oversubscribe "$build/examples/biaxial_mpi" --dim "$dim" --preset "$preset" --vtk-every 0 --no-pictures --quiet \
@@ -61,7 +64,7 @@ table() {  # table A B: the figures of A, their scatter over the seeds, and A - 
       }
     }' "$work/figures.txt"
 }
-echo "${dim}D $preset preset, seeds $seeds: the serial program, and biaxial_mpi on $ranks ranks from the same prepared packing."
+echo "${dim}D $preset preset${ARGS:+ ($ARGS)}, seeds $seeds: the serial program, and biaxial_mpi on $ranks ranks from the same prepared packing."
 echo
 table serial "ranks$ranks"
 if [ -n "${BASELINE_RANKS:-}" ]; then

@@ -2,7 +2,7 @@
 //
 //   biaxial --preset quick --out runs/quick        # under a minute on one core
 //   biaxial --preset paper --out runs/paper        # N = 1950, T = 1 s, as in the paper
-//   biaxial --dim 3 --preset quick --out runs/tri  # the same experiment as a triaxial box
+//   biaxial --dim 3 --preset quick --out runs/tri  # the same experiment as a triaxial box (N = 8000)
 //
 // Writes run.json (every parameter, derived figures, timing) and timeseries.csv (one row per
 // output interval of the loading) into --out. Run with --help for every option and its unit.
@@ -511,7 +511,7 @@ int main(int argc, char** argv) {
     CLI::App app{"The paper's biaxial test: preparation, strain-controlled loading (Eq. 17) against a "
                  "stress-controlled side wall (Eq. 18), relaxation; averages in the inner box."};
     app.add_option("--dim", c.dim, "2 (biaxial) or 3 (triaxial box)")->capture_default_str();
-    app.add_option("--preset", preset, "paper (N = 1950, T = 1 s) or quick (N = 300, T = 0.1 s)")->capture_default_str();
+    app.add_option("--preset", preset, "paper (N = 1950, in 3D 12 500; T = 1 s) or quick (N = 300, in 3D 8000; T = 0.1 s)")->capture_default_str();
     Plan plan;
     std::string resume;
     auto* out_option = app.add_option("--out", out, "output directory (created); one that holds an earlier run is refused");

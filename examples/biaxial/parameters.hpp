@@ -54,7 +54,8 @@ inline const std::vector<Parameter>& parameter_table() {
         {"--mu-prepare", "mu_prepare", "friction while preparing (default 0.1: volume fraction 0.83; 0.5 leaves 0.80)",
          &C::mu_prepare, true},
         {"--prepare-walls", "prepare_walls",
-         "walls that compress while preparing: upper (default; the lower walls stay) or both (opposite walls close in together)",
+         "walls that compress while preparing: upper (the lower walls stay; the default in 2D) or both (opposite walls close in "
+         "together; the default in 3D)",
          &C::prepare_walls, true, nullptr, true},
         {"--kt-ratio", "kt_ratio", "linear law: k_t / k (default 0.2)", &C::kt_ratio, false, "linear"},
         {nullptr, "gammat_ratio", "", &C::gammat_ratio, false, "linear"},
@@ -103,15 +104,20 @@ inline nlohmann::ordered_json parameters_json(const Config& c) {
 }
 
 /// The configuration saved in run.json or a state (`j` holds "parameters"), over `c`. A file
-/// written before a `later` parameter existed keeps its default (the paper's inner box, the
-/// linear law).
+/// written before a `later` parameter existed takes the value every run had then, Config's
+/// default (the paper's inner box, the linear law, the upper walls preparing), whatever the
+/// presets set now.
 inline Config config_from_json(const nlohmann::ordered_json& j, Config c) {
     const auto& saved = j.at("parameters");
+    const Config then;
     for (const Parameter& p : parameter_table())
         std::visit(
             [&](auto field) {
                 using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
-                if (p.later && !saved.contains(p.key)) return;
+                if (p.later && !saved.contains(p.key)) {
+                    c.*field = then.*field;
+                    return;
+                }
                 c.*field = saved.at(p.key).template get<T>();
             },
             p.field);
