@@ -6,7 +6,7 @@
 #   slice_3d.png     a slab through the middle of the 3D box at its last frame, with the force network;
 #   the plots of Fig. 4-5 (plot_timeseries).
 # Needs a build (scripts/setup.sh run) and, without a display, xvfb-run.
-#   scripts/paper_figures.sh            # runs the presets into runs/paper and runs/quick3d (about 3 minutes)
+#   scripts/paper_figures.sh            # runs the presets into runs/paper and runs/quick3d (about 6 minutes)
 #   RUN=runs/paper RUN3D=runs/quick3d scripts/paper_figures.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."
