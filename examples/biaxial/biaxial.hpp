@@ -340,7 +340,9 @@ public:
             const double a = c_.radius_min + (c_.radius_max - c_.radius_min) * U(rng);
             V x;
             std::array<int, dim> home;
+            std::size_t home_cell = 0;  // home's index among the cells, axis 0 fastest
             for (int k = 0; k < dim; ++k) x[k] = a + (L - 2 * a) * U(rng), home[k] = cell_of(x[k]);
+            for (int k = dim - 1; k >= 0; --k) home_cell = home_cell * cells + static_cast<std::size_t>(home[k]);
             bool free = true;
             for (int around = 0; around < (dim == 2 ? 9 : 27) && free; ++around) {
                 std::size_t c = 0;
@@ -354,10 +356,8 @@ public:
                 for (std::size_t j = first[c]; j != SIZE_MAX && free; j = next[j]) free = (x - placed[j]).norm() > a + radii[j];
             }
             if (!free) continue;
-            std::size_t c = 0;
-            for (int k = dim - 1; k >= 0; --k) c = c * cells + static_cast<std::size_t>(home[k]);
-            next.push_back(first[c]);
-            first[c] = placed.size();
+            next.push_back(first[home_cell]);
+            first[home_cell] = placed.size();
             placed.push_back(x);
             radii.push_back(a);
             p.add(x, a, mm::sphere_mass(c_.density, a));

@@ -3,7 +3,7 @@
 // own and the neighbouring cells of a grid at least two largest radii wide. Every particle lies
 // inside the walls and overlaps no other: checked against every other particle at a few thousand,
 // and by the engine's own contact search (no contact at all) at 200 000, a size that checking
-// every placed particle (quadratic in N) would take minutes to place.
+// every placed particle (quadratic in N) took about a minute to place (16 s at 100 000 in 3D).
 #define BOOST_TEST_MODULE tools_biaxial_placement
 #include <boost/test/unit_test.hpp>
 
