@@ -16,6 +16,7 @@
 #include <cstdio>
 #include <functional>
 #include <random>
+#include <sstream>
 #include <string>
 #include <type_traits>
 #include <vector>
@@ -192,11 +193,17 @@ inline void validate(const Config& c) {
         throw_input_error("--period ", c.period, " s loads at an inertial number of ", c.inertial_number(),
                           " at the peak rate, above 1: the top wall outruns the packing (a quasi-static test needs "
                           "I << 1, the paper's T = 1 s gives 5e-4); use --period >= ", c.period * c.inertial_number());
-    if ((1.0 - c.final_strain) * c.expected_side() < 2.0 * d_max)
-        throw_input_error("--final-strain ", c.final_strain, " leaves the box about ", (1.0 - c.final_strain) * c.expected_side(),
+    if (const double side = c.expected_side(); (1.0 - c.final_strain) * side < 2.0 * d_max) {
+        // The side grows as particles^(1/dim); a strain bound below 0.01 is no way out.
+        const double needed = std::ceil(c.particles * std::pow(2.0 * d_max / ((1.0 - c.final_strain) * side), c.dim));
+        const double strain = std::floor(100 * (1.0 - 2.0 * d_max / side)) / 100;
+        std::ostringstream fix;
+        fix << "use --particles >= " << needed;
+        if (strain >= 0.01) fix << " or --final-strain <= " << strain;
+        throw_input_error("--final-strain ", c.final_strain, " leaves the box about ", (1.0 - c.final_strain) * side,
                           " m high, less than 2 of the largest particles (", d_max, " m each): no packing is left between "
-                          "the walls; use --final-strain <= ", std::floor(100 * (1.0 - 2.0 * d_max / c.expected_side())) / 100,
-                          " or more --particles");
+                          "the walls; ", fix.str());
+    }
     mm::require_non_negative(c.relax, "--relax", "give the relaxation time after T/2 in s");
     mm::require_non_negative(c.mu, "--mu", "use 0 for frictionless particles");
     mm::require_positive(c.kt_ratio, "--kt-ratio", "k_t / k must be > 0");
@@ -230,6 +237,23 @@ inline void validate(const Config& c) {
             throw_input_error("--wall-mass ", c.wall_mass, " kg is too light for dt = ", dt, " s: the wall on a contact of "
                               "stiffness k oscillates at omega dt = ", omega * dt, ", above the stable 2; use --wall-mass >= ",
                               1.0 / (1.0 / (k * dt * dt) - 1.0 / m_min), " (the default is 1e-4)");
+    }
+    {  // while preparing, the walls' damper p A / v grows with the starting box's face A: a wall too
+       // light for it overshoots at every step (the engine's stress_wall_time_step_limit refuses it)
+        const double L = c.box_factor * c.expected_side(), speed = c.wall_speed_prepare();
+        const double gamma = c.pressure * std::pow(L, c.dim - 1) / speed;
+        auto limit = [&](double m) { return mm::stress_wall_time_step_limit(springs.normal_stiffness, m, gamma, 1.0 / m_min); };
+        if (dt > limit(c.wall_mass)) {
+            double light = c.wall_mass, heavy = 2.0 * c.wall_mass;  // the lightest stable mass, bracketed
+            while (dt > limit(heavy)) light = heavy, heavy *= 2.0;
+            for (int k = 0; k < 60; ++k) (dt > limit(0.5 * (light + heavy)) ? light : heavy) = 0.5 * (light + heavy);
+            const double digit = std::pow(10.0, std::floor(std::log10(heavy)) - 2);
+            heavy = std::ceil(heavy / digit) * digit;  // three digits, rounded up: stable as printed
+            throw_input_error("--wall-mass ", c.wall_mass, " kg is too light for the preparation's wall damping of ", gamma,
+                              " kg/s (p A / --prepare-speed ", speed, " m/s, A the starting box's face ", std::pow(L, c.dim - 1),
+                              c.dim == 2 ? " m" : " m^2", "): the wall is stable up to dt = ", limit(c.wall_mass), " s, and dt = ", dt,
+                              " s; use --wall-mass >= ", heavy, " (the default is 1e-4)");
+        }
     }
     {  // the tangential spring between the two lightest particles, turning (as the engine's stable_time_step)
         const double mobility = 2.0 * 3.5 / m_min;  // 1/m + a^2/I per particle, I = 2/5 m a^2
