@@ -69,6 +69,54 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(time_step_above_stability_limit, D, Dims) {
     expect_error([&] { sim.prepare(); }, {"exceeds the stability limit 0 s"});
 }
 
+// A time step beyond the limit is refused with the oscillation that sets it and the fix for it:
+// the normal spring, the tangential spring, the drag, or a stress-controlled wall whose damper
+// (as the biaxial preparation's, p A / v, in a big box) is too strong for its mass.
+BOOST_AUTO_TEST_CASE_TEMPLATE(the_refusal_names_what_sets_the_limit, D, Dims) {
+    constexpr int dim = D::value;
+    using V = mm::Vec<dim>;
+    const double a = 0.5e-3, m = mm::sphere_mass(rho, a);
+    auto refused = [](auto& sim, std::initializer_list<std::string> parts) {
+        const mm::StabilityLimit limit = sim.stability_limit();
+        BOOST_TEST(limit.seconds == sim.stable_time_step());
+        sim.set_time_step(1.01 * limit.seconds);
+        expect_error([&] { sim.prepare(); }, parts);
+        sim.set_time_step(0.99 * limit.seconds);
+        sim.prepare();
+        return limit;
+    };
+    mm::Simulation<dim, mm::FrictionalLinear> pair(
+        mm::FrictionalLinear{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)});
+    pair.particles().add(V::Zero(), a, m);
+    pair.particles().add(V::Constant(3e-3), a, m);
+    BOOST_TEST((refused(pair, {"of the normal spring and dashpot of the lightest particles' contact; use dt <="}).cause ==
+                mm::StabilityLimit::Cause::normal_spring));
+    pair.law().tangential = mm::CundallStrack(5.0 * k, 0.2 * gamma0, 0.5);
+    BOOST_TEST((refused(pair, {"of the tangential spring of the lightest particles' contact; use dt <="}).cause ==
+                mm::StabilityLimit::Cause::tangential_spring));
+
+    // A lone particle: no contact to limit it, only its drag (with partners, the drag damps their
+    // springs too and the spring's limit is the tighter).
+    mm::Simulation<dim, mm::FrictionlessLinear, mm::NoWalls, mm::VelocityVerlet, mm::LinkedCells, mm::BackgroundDamping> damped(
+        law, {}, {}, {}, {}, mm::BackgroundDamping(1.0, 0.0));
+    damped.particles().add(V::Zero(), a, m);
+    BOOST_TEST((refused(damped, {"of the body forces' drag on the lightest particle; use dt <=", ", less drag"}).cause ==
+                mm::StabilityLimit::Cause::drag));
+
+    mm::Walls<dim> walls;
+    for (int axis = 0; axis < dim - 1; ++axis) {
+        walls.add_axis_aligned(axis, true, -0.05);
+        walls.add_axis_aligned(axis, false, 0.05);
+    }
+    walls.add_axis_aligned(dim - 1, false, 2e-3, mm::StressControlled{20.0, 1e-6, 1e4});
+    mm::Simulation<dim, mm::FrictionlessLinear, mm::Walls<dim>> box(law, {}, walls);
+    box.particles().add(V::Zero(), a, m);
+    const auto wall = refused(box, {"of stress-controlled wall " + std::to_string(2 * (dim - 1)) + " on one particle; use dt <=",
+                                    "a heavier wall or a weaker damper"});
+    BOOST_TEST((wall.cause == mm::StabilityLimit::Cause::stress_wall));
+    BOOST_TEST(wall.wall == std::size_t(2 * (dim - 1)));
+}
+
 BOOST_AUTO_TEST_CASE(missing_time_step) {
     mm::Simulation<2, mm::FrictionlessLinear> sim(law);
     sim.particles().add(mm::Vec<2>::Zero(), 1e-3, 1e-5);

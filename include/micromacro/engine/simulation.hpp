@@ -127,13 +127,13 @@ public:
     }
 
     /// The largest stable time step of the scene's stiffest two-body oscillation: the normal
-    /// spring between the two lightest particles, with friction the tangential spring (its
-    /// contact point moved by translation and, where particles turn, rotation), and a
-    /// stress-controlled wall on one particle (Eq. 22's oscillator, limits from the integrators),
-    /// each damped also by the body forces' drag (background and affine damping), which alone
-    /// overshoots beyond dt = m / gamma_b. Many contacts on one particle stiffen it further: this
-    /// bound is necessary, not sufficient.
-    double stable_time_step() const;
+    /// spring between the two lightest particles, with friction the tangential spring (its contact
+    /// point moved by translation and, where particles turn, rotation), and a stress-controlled wall
+    /// on one particle (Eq. 22's oscillator, limits from the integrators), each damped also by the
+    /// body forces' drag, which alone overshoots beyond dt = m / gamma_b. Many contacts on one
+    /// particle stiffen it further: necessary, not sufficient. stability_limit() names the cause.
+    StabilityLimit stability_limit() const;
+    double stable_time_step() const { return stability_limit().seconds; }
 
     /// Checks the scene, builds the neighbour lists and computes the forces. Called by the first
     /// step() and again after set_time_step(), set_skin() or adding particles; call it yourself to

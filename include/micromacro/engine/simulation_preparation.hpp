@@ -19,8 +19,9 @@ inline void BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
-inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::stable_time_step() const -> double {
-    if (particles_.empty()) return std::numeric_limits<double>::infinity();
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::stability_limit() const -> StabilityLimit {
+    StabilityLimit limit;
+    if (particles_.empty()) return limit;
     bool any_wall = false;
     if constexpr (has_walls) any_wall = walls_.size() > 0;
     const std::size_t n = particles_.size();
@@ -34,23 +35,25 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     const double partners = n > 1 ? 2.0 : 1.0;
     const auto& r = particles_.radius();
     const auto& inverse_mass = particles_.template get<field::InverseMass>();
-    double limit = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < n; ++i) {
         const double a = r[i], inv = inverse_mass[i];
         const auto [drag, spin_drag] = drag_rates(i);
-        limit = std::min({limit, Integrator::stability_limit(0.0, 0.5 * drag), Integrator::stability_limit(0.0, 0.5 * spin_drag)});
+        limit.tighten(std::min(Integrator::stability_limit(0.0, 0.5 * drag), Integrator::stability_limit(0.0, 0.5 * spin_drag)),
+                      StabilityLimit::Cause::drag);
         if (!contacts) continue;
         const StiffnessBound b = law_.stiffness_bound(n > 1 ? 0.5 * a : a, 1.0 / (partners * inv));
-        limit = std::min(limit, normal_time_step_limit<Integrator>(b.normal_stiffness, b.normal_damping, partners * inv, drag));
+        limit.tighten(normal_time_step_limit<Integrator>(b.normal_stiffness, b.normal_damping, partners * inv, drag),
+                      StabilityLimit::Cause::normal_spring);
         if constexpr (has_tangential)
-            limit = std::min(limit, tangential_time_step_limit<Integrator>(b.tangential_stiffness, b.tangential_damping,
-                                                                           partners * particles_.contact_point_mobility(i),
-                                                                           std::max(drag, spin_drag)));
+            limit.tighten(tangential_time_step_limit<Integrator>(b.tangential_stiffness, b.tangential_damping,
+                                                                 partners * particles_.contact_point_mobility(i),
+                                                                 std::max(drag, spin_drag)),
+                          StabilityLimit::Cause::tangential_spring);
         if constexpr (has_walls) {  // a stress-controlled wall on one contact
             const double on_wall = law_.stiffness_bound(a, 1.0 / inv).normal_stiffness;
-            for (const auto& w : walls_)
-                if (const auto* s = std::get_if<StressControlled>(&w.motion))
-                    limit = std::min(limit, stress_wall_time_step_limit(on_wall, s->mass, s->damping, inv));
+            for (std::size_t w = 0; w < walls_.size(); ++w)
+                if (const auto* s = std::get_if<StressControlled>(&walls_[w].motion))
+                    limit.tighten(stress_wall_time_step_limit(on_wall, s->mass, s->damping, inv), StabilityLimit::Cause::stress_wall, w);
         }
     }
     return limit;
@@ -88,11 +91,20 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if (!(skin_ > 0.0)) skin_ = default_skin(r);
     if (n) domain_.check_interaction_range(interaction_range(r, skin_));
     check_position_resolution();
-    const double limit = stable_time_step();
-    if (dt_ > limit && !allow_unstable_)
-        detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit,
-                                  " s of the stiffest contact or strongest drag (lightest particles); use dt <= ", limit,
-                                  " (the paper uses t_c/50), or allow_unstable_time_step(true) to run anyway");
+    if (const StabilityLimit limit = stability_limit(); dt_ > limit.seconds && !allow_unstable_) {
+        using C = StabilityLimit::Cause;
+        const char* what = limit.cause == C::stress_wall         ? "stress-controlled wall "
+                           : limit.cause == C::drag              ? "the body forces' drag on the lightest particle"
+                           : limit.cause == C::tangential_spring ? "the tangential spring of the lightest particles' contact"
+                                                                 : "the normal spring and dashpot of the lightest particles' contact";
+        const char* also = limit.cause == C::stress_wall ? ", a heavier wall or a weaker damper (StressControlled's mass, damping)"
+                           : limit.cause == C::drag      ? ", less drag"
+                                                         : "";
+        detail::throw_input_error("time step dt = ", dt_, " s exceeds the stability limit ", limit.seconds, " s of ", what,
+                                  limit.cause == C::stress_wall ? std::to_string(limit.wall) + " on one particle" : std::string(),
+                                  "; use dt <= ", limit.seconds, " (the paper uses t_c/50)", also,
+                                  ", or allow_unstable_time_step(true) to run anyway");
+    }
     for (auto& x : particles_.position()) {
         V wrapped = convert<double>(x);
         domain_.wrap(wrapped);

@@ -3,12 +3,26 @@
 // two-body oscillation, and whether stored coordinates resolve the overlaps. Free functions, so
 // that a program can check its own options against the same numbers the engine will use.
 #include <cmath>
+#include <cstddef>
 #include <limits>
 
 #include "micromacro/core/error.hpp"
 #include "micromacro/integrators/integrators.hpp"
 
 namespace micromacro {
+
+/// A scene's largest stable time step and the oscillation that sets it (what a refusal names).
+struct StabilityLimit {
+    enum class Cause { none, normal_spring, tangential_spring, drag, stress_wall };
+    double seconds = std::numeric_limits<double>::infinity();
+    Cause cause = Cause::none;
+    std::size_t wall = 0;  ///< the stress-controlled wall, where it sets the limit
+
+    /// Takes `candidate` where it is the tighter limit.
+    void tighten(double candidate, Cause why, std::size_t which_wall = 0) {
+        if (candidate < seconds) seconds = candidate, cause = why, wall = which_wall;
+    }
+};
 
 /// The largest stable dt of a contact's normal spring and dashpot between bodies of combined
 /// inverse mass `inverse_mass` (1/m_i + 1/m_j; 1/m for a particle on a wall), integrated by
