@@ -6,6 +6,7 @@
 #define BOOST_TEST_MODULE tools_random_packing
 #include <boost/test/unit_test.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <string>
@@ -93,6 +94,35 @@ void check_packing(std::size_t n, double pressure, double dense, bool same_seed_
 
 BOOST_AUTO_TEST_CASE(a_dense_periodic_packing_at_the_pressure_2d) { check_packing<2>(120, 5e-4, 0.78, true); }
 BOOST_AUTO_TEST_CASE(a_dense_periodic_packing_at_the_pressure_3d) { check_packing<3>(120, 5e-4, 0.56, false); }
+
+// Too few particles for their radii: the box they pack into would be shorter than two
+// interaction ranges (2 x (2 largest radii + skin)), where a particle meets two images of one
+// partner and the minimum image counts only one (8 disks and 20 spheres packed so before, with no
+// word). Refused before any work with a count that fits, which packs into a box long enough.
+template <int dim>
+void too_few_particles_for_the_box(int n) {
+    const fs::path out = work / ("few" + std::to_string(dim) + ".dump");
+    const std::string common = "--dim " + std::to_string(dim) + " --seed 1 --out " + out.string() + " --particles ";
+    const auto r = run(common + std::to_string(n));
+    BOOST_TEST(r.exit_code() == 1);
+    BOOST_TEST(r.err.find("shorter than two interaction ranges") != std::string::npos, r.err);
+    BOOST_TEST(!fs::exists(out));
+    const std::string use = "use --particles >= ";
+    const auto at = r.err.find(use);
+    BOOST_TEST_REQUIRE(at != std::string::npos, r.err);
+    const int enough = std::stoi(r.err.substr(at + use.size()));
+    BOOST_TEST(enough > n);
+    const auto ok = run(common + std::to_string(enough));
+    BOOST_TEST_REQUIRE(ok.exit_code() == 0, ok.err);
+    const auto f = mm::io::read_packing<dim>(out.string(), mm::io::PackingFormat::lammps_dump);
+    double largest = 0.0, sum = 0.0;
+    for (const double a : f.radius) largest = std::max(largest, a), sum += a;
+    const double range = 2.0 * largest + 0.2 * sum / double(f.radius.size());  // the engine's default skin
+    const auto [lo, hi] = *f.box;
+    for (int a = 0; a < dim; ++a) BOOST_TEST(hi[a] - lo[a] >= 2.0 * range);
+}
+BOOST_AUTO_TEST_CASE(too_few_particles_for_the_box_2d) { too_few_particles_for_the_box<2>(8); }
+BOOST_AUTO_TEST_CASE(too_few_particles_for_the_box_3d) { too_few_particles_for_the_box<3>(20); }
 
 BOOST_AUTO_TEST_CASE(an_existing_file_is_kept_and_absurd_options_refused) {
     const std::string kept = mmtest::write_file(work, "kept.dump", "an earlier result\n");

@@ -167,6 +167,28 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(periodic_box_too_short, D, Dims) {
     expect_error([&] { mm::Domain<dim>(mm::Vec<dim>::Zero(), mm::Vec<dim>::Zero(), periodic); }, {"hi > lo"});
 }
 
+// An affine compression may not take a periodic box below two interaction ranges either (a
+// packing compressed to a pressure, as examples/random_packing does, with too few particles for
+// its radii): refused before anything moves, the scene as it was.
+BOOST_AUTO_TEST_CASE_TEMPLATE(compressing_a_periodic_box_too_far_is_refused, D, Dims) {
+    constexpr int dim = D::value;
+    const double a = 1e-3, L = 8e-3;
+    mm::Simulation<dim, mm::FrictionlessLinear> sim(law, mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L)));
+    sim.particles().add(mm::Vec<dim>::Constant(1e-3), a, mm::sphere_mass(rho, a));
+    sim.particles().add(mm::Vec<dim>::Constant(4e-3), a, mm::sphere_mass(rho, a));
+    sim.set_time_step(1e-7);
+    sim.prepare();
+    const double range = mm::interaction_range(a, sim.skin());  // 2 a + skin = 2.2 mm: the box may shrink to 4.4 mm
+    const auto before = sim.particles().position();
+    const auto F = [](double s) { return Eigen::Matrix<double, dim, dim>(Eigen::Matrix<double, dim, dim>::Identity() * s); };
+    expect_error([&] { sim.deform_affinely(F(0.99 * 2.0 * range / L)); },
+                 {"the deformation leaves periodic axis 0", "shorter than two interaction ranges", "deform less"});
+    BOOST_TEST(sim.domain().length(0) == L);
+    for (std::size_t i = 0; i < before.size(); ++i) BOOST_TEST(sim.particles().position()[i] == before[i]);
+    sim.deform_affinely(F(1.01 * 2.0 * range / L));  // just enough room: fine
+    BOOST_TEST(sim.domain().length(0) == 1.01 * 2.0 * range, boost::test_tools::tolerance(1e-12));
+}
+
 BOOST_AUTO_TEST_CASE(bad_walls) {
     mm::Walls<2> walls;
     expect_error([&] { walls.add(mm::Vec<2>::Zero(), mm::Vec<2>::Zero()); }, {"normal has length 0"});

@@ -260,7 +260,7 @@ public:
     /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes),
     /// a periodic box (diagonal F only), and every tangential spring, which takes up the
     /// tangential part of its contact's branch change as if the partners had moved there.
-    /// Velocities are kept. Used by quasi-static strain steps and the relaxed affine probe.
+    /// Velocities are kept. A periodic axis left shorter than two interaction ranges is refused.
     void deform_affinely(const Eigen::Matrix<double, dim, dim>& F);
 
     /// Visits the complete state (particles, contacts with their springs, walls, box, law, body
