@@ -142,9 +142,11 @@ int run(const Options& o) {
         mean_m += mm::sphere_mass(o.density, a) / double(o.particles);
     }
     // The box shrinks to the packing's density, and a periodic box must stay two interaction
-    // ranges long (2 x (2 largest radii + the engine's skin)). Packings of these radii stay below a
-    // fraction of 0.95 (2D) and 0.80 (3D) up to p/k = 1e-2 (random dense ones reach 0.84-0.88 and
-    // 0.64-0.68): a box that small is refused now, with the count that fits.
+    // ranges long (2 x (2 largest radii + the engine's skin)). Random dense packings of radii
+    // within a few times of each other stay well below a fraction of 0.95 (2D) and 0.80 (3D) (the
+    // default radii: 0.71-0.83 and 0.60-0.61 at the default pressure, up to 80 particles): a box
+    // that small even then is refused now, with the count that fits. A wider spread can pack
+    // denser; the engine then refuses the compression that would go too far (deform_affinely).
     {
         const double largest = *std::max_element(r.begin(), r.end()), skin = mm::default_skin(r);
         const double range = mm::interaction_range(largest, skin), densest = std::pow(solid / (dim == 2 ? 0.95 : 0.80), 1.0 / dim);
