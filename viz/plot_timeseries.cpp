@@ -122,7 +122,7 @@ int main(int argc, char** argv) {
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
     try {
         const auto [width, height] = viz::parse_size(size);
-        if (!fs::is_regular_file(input)) fail("cannot read " + input + ": no such file");
+        if (!fs::is_regular_file(input)) fail("cannot read " + input + (fs::exists(input) ? ": not a regular file" : ": no such file"));
         const auto col = biaxial::read_timeseries(input);
         if (col.empty() || !col.count("time")) fail(input + " is not a biaxial time series (no time column)");
         viz::require_display("plot_timeseries");  // after the input: a bad file is said first

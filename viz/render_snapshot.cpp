@@ -96,7 +96,7 @@ fs::path resolve(const fs::path& input, int step) {
 /// A .vtp file, or a .pvtp summary with its pieces (a run over MPI ranks) as one data set;
 /// `need_points`: refuse one without points (a particles file must have some).
 vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
-    if (!fs::is_regular_file(p)) fail("cannot read " + p.string() + ": no such file");
+    if (!fs::is_regular_file(p)) fail("cannot read " + p.string() + (fs::exists(p) ? ": not a regular file" : ": no such file"));
     vtkSmartPointer<vtkXMLReader> reader;
     if (p.extension() == ".pvtp")
         reader = vtkSmartPointer<vtkXMLPPolyDataReader>::New();

@@ -110,6 +110,22 @@ BOOST_AUTO_TEST_CASE(a_number_outside_its_rule_is_refused_by_name_value_and_rule
     BOOST_TEST(checked >= 6u);  // throughput and random_packing are always built with the tests
 }
 
+// An input that exists but is not a file (here a folder) is called that, not missing.
+BOOST_AUTO_TEST_CASE(an_input_that_is_not_a_file_is_called_so) {
+    fs::remove_all(work);
+    const fs::path folder = work / "a_folder";
+    fs::create_directories(folder);
+    for (const auto& [name, path] : programs_built) {
+        std::string args;
+        if (std::string(name) == "render_snapshot") args = folder.string() + " -o " + (work / "picture.png").string();
+        else if (std::string(name) == "plot_timeseries") args = folder.string() + " --out " + (work / "plots").string();
+        else continue;
+        const auto r = mmtest::run_program(path, args, work);
+        BOOST_TEST(r.exit_code() == 1, name);
+        BOOST_TEST(r.err.find("cannot read " + folder.string() + ": not a regular file") != std::string::npos, name << ": " << r.err);
+    }
+}
+
 // A result that cannot be written is an error: standard output on a full disk (/dev/full).
 BOOST_AUTO_TEST_CASE(a_full_standard_output_is_an_error) {
     fs::remove_all(work);
