@@ -125,6 +125,9 @@ struct Config {
     double wall_speed_prepare() const {
         return prepare_speed > 0 ? prepare_speed : 5.0 * std::min(1.0, pressure_over_stiffness() / 1e-5);
     }
+    /// The preparing walls' damper, p A / wall_speed_prepare() with A the face of a box of side L:
+    /// a terminal speed of wall_speed_prepare() at that area.
+    double prepare_wall_damping(double L) const { return pressure * std::pow(L, dim - 1) / wall_speed_prepare(); }
 };
 
 /// The presets of the issue: the paper's N = 1950 at T = 1 s, and a quick run of the same physics.
@@ -240,8 +243,7 @@ inline void validate(const Config& c) {
     }
     {  // while preparing, the walls' damper p A / v grows with the starting box's face A: a wall too
        // light for it overshoots at every step (the engine's stress_wall_time_step_limit refuses it)
-        const double L = c.box_factor * c.expected_side(), speed = c.wall_speed_prepare();
-        const double gamma = c.pressure * std::pow(L, c.dim - 1) / speed;
+        const double L = c.box_factor * c.expected_side(), speed = c.wall_speed_prepare(), gamma = c.prepare_wall_damping(L);
         auto limit = [&](double m) { return mm::stress_wall_time_step_limit(springs.normal_stiffness, m, gamma, 1.0 / m_min); };
         if (dt > limit(c.wall_mass)) {
             double light = c.wall_mass, heavy = 2.0 * c.wall_mass;  // the lightest stable mass, bracketed
@@ -600,10 +602,9 @@ private:
     }
 
     mm::WallMotion prepare_motion(double L) const {
-        // Damping for a terminal speed of wall_speed_prepare() at the initial area; as the box shrinks the
-        // push p A and with it the wall's speed drop.
-        const double area = std::pow(L, dim - 1);
-        return mm::StressControlled{c_.pressure, c_.wall_mass, c_.pressure * area / c_.wall_speed_prepare()};
+        // Damped for a terminal speed of wall_speed_prepare() at the initial area; as the box shrinks
+        // the push p A and with it the wall's speed drop.
+        return mm::StressControlled{c_.pressure, c_.wall_mass, c_.prepare_wall_damping(L)};
     }
 
     Config c_;
