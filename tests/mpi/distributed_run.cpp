@@ -6,7 +6,9 @@
 // their ranks and with them handed to new ranks every few steps. In 2D and 3D. Contacts press,
 // turn and slide: the tangential springs carry the history the comparison checks. One rank gives
 // the serial run's bits. The same in a box of walls, one moved by Eq. 17 and one by Eq. 18, whose
-// forces are summed over the ranks: the walls move as in the serial run.
+// forces are summed over the ranks: the walls move as in the serial run. Where no particle has
+// more than two contacts (the order of a sum of two does not matter) any number of ranks gives
+// the serial bits, pairs across the periodic boundary between ranks and wraps included.
 #define BOOST_TEST_MODULE mpi_distributed_run
 #include <boost/test/unit_test.hpp>
 
@@ -128,10 +130,9 @@ std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::
         BOOST_TEST_MESSAGE(dim << "D, skin " << skin << ", rank " << rank << ", after " << steps << " steps, relative differences: position " << dx
                                << ", velocity " << dv << ", angular velocity " << dw << ", force " << df << ", torque " << dt
                                << "; the serial run numbered backwards: velocity " << bv << ", force " << bf);
-        // Round-off: the serial run numbered backwards differs by up to 2.7e-12 after 200 steps,
-        // and runs on 2-4 ranks, which measure a pair across a periodic boundary between ranks
-        // from an image (x - L, rounded) instead of by the minimum image, by up to 1.2e-11 (2D;
-        // the messages above, --log_level=message). A rank that missed a contact or a spring
+        // Round-off: the serial run numbered backwards differs by up to 4.2e-12 after 200 steps,
+        // and runs on 2-4 ranks, which add a particle's contacts in another order, by up to
+        // 2.3e-12 (the messages above, --log_level=message). A rank that missed a contact or a spring
         // would be off by the contact's share of the force, many orders more. One rank runs the
         // serial engine on the serial box: the same bits.
         // (With threads the shares of the pair list follow its length, which the rebuilds set.)
@@ -336,11 +337,81 @@ BOOST_AUTO_TEST_CASE(a_share_cannot_resume) {
 // Ranks x threads: two OpenMP threads in each rank's engine and in the serial run (8 100 disks, so
 // that two ranks hold enough particles for both threads), the serial state to round-off. In this
 // larger packing round-off grows further over the 200 steps: the serial run numbered backwards
-// differs by up to 8e-12, 1-4 ranks by up to 3e-11; a contact missed would be off by its share.
+// differs by up to 8.1e-12, 1-4 ranks by up to 1.7e-11; a contact missed would be off by its share.
 BOOST_AUTO_TEST_CASE(threads_within_ranks_keep_the_serial_state) {
 #ifdef _OPENMP
     compare_with_serial(lattice<2>(90, 0.5e-3), false, false, false, 2, 1e-10);
 #else
     BOOST_TEST_MESSAGE("built without OpenMP: one thread per rank");
 #endif
+}
+
+// Rows of particles along the first axis, each touching its two neighbours in its row (rows too
+// far apart to touch), drifting along the rows at 2 m/s with small random velocities and spins:
+// every pair's force is added to at most two on a particle, in either order the same sum, so the
+// run on any number of ranks must give the serial bits where a rank measures each pair and
+// wraps each particle as the serial engine does: pairs across the periodic boundary between ranks
+// by the minimum image, particles wrapped in the step they cross it (some sit 50 um before it),
+// handed to new ranks every few steps (a skin of 10 um). Without fused multiply-adds the bits; with
+// them a pair's force depends on which partner the rank numbers first, so round-off.
+BOOST_AUTO_TEST_CASE_TEMPLATE(pairs_across_rank_and_periodic_boundaries_give_the_serial_bits, D, Dims) {
+    constexpr int dim = D::value;
+    const int along = 20, rows = dim == 2 ? 6 : 4;
+    const double spacing = 1.99e-3, row_spacing = 3.3e-3;
+    mm::Vec<dim> hi = mm::Vec<dim>::Constant(rows * row_spacing);
+    hi[0] = along * spacing;
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> serial(mmtest::lattice_law,
+                                                                  mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), hi));
+    std::mt19937_64 rng(31);
+    std::normal_distribution<double> N(0.0, 1.0);
+    for (int row = 0; row < (dim == 2 ? rows : rows * rows); ++row)
+        for (int k = 0; k < along; ++k) {
+            mm::Vec<dim> x;
+            x[0] = k == 0 ? hi[0] - 50e-6 : k * spacing - 50e-6;
+            x[1] = (row % rows + 0.5) * row_spacing;
+            if constexpr (dim == 3) x[2] = (row / rows + 0.5) * row_spacing;
+            const std::size_t i = serial.particles().add(x, 1e-3, mm::sphere_mass(mmtest::rho, 1e-3));
+            for (int a = 0; a < dim; ++a) serial.particles().velocity()[i][a] = (a == 0 ? 2.0 : 0.0) + 0.05 * N(rng);
+            auto& w = serial.particles().template get<mm::field::AngularVelocity>()[i];
+            if constexpr (dim == 2) w = 20.0 * N(rng);
+            else w = mm::Vec<3>(20.0 * N(rng), 20.0 * N(rng), 20.0 * N(rng));
+        }
+    serial.set_time_step(mm::contact_duration(mmtest::k, mmtest::gamma0, mm::sphere_mass(mmtest::rho, 1e-3) / 2) / 50);
+    serial.set_skin(10e-6);
+    mm::mpi::DistributedRun distributed(MPI_COMM_WORLD, serial);
+    serial.prepare();
+    const auto& s = serial.particles();
+    const auto by_id = s.index_by_id();
+    std::size_t wrapped = 0;  // particles that crossed the periodic boundary, seen at comparisons
+    for (int step = 1; step <= 200; ++step) {
+        serial.step();
+        distributed.step();
+        const auto& p = distributed.local().particles();
+        const auto& w = s.template get<mm::field::AngularVelocity>();
+        const auto& t = s.template get<mm::field::Torque>();
+        double w_scale = 0.0, t_scale = 0.0;  // the largest values, for relative differences
+        for (std::size_t k = 0; k < s.size(); ++k) w_scale = std::max(w_scale, norm<dim>(w[k])), t_scale = std::max(t_scale, norm<dim>(t[k]));
+        const double v_scale = largest<dim>(s.velocity()), f_scale = largest<dim>(s.force());
+        double worst = 0.0;
+        for (std::size_t i = 0; i < distributed.owned(); ++i) {
+            const std::size_t k = by_id[distributed.global_id(i)];
+            const auto dw = p.template get<mm::field::AngularVelocity>()[i] - w[k];
+            const auto dt = p.template get<mm::field::Torque>()[i] - t[k];
+            worst = std::max({worst, (p.position()[i] - s.position()[k]).norm() / hi.norm(), (p.velocity()[i] - s.velocity()[k]).norm() / v_scale,
+                              (p.force()[i] - s.force()[k]).norm() / f_scale, norm<dim>(dw) / w_scale, norm<dim>(dt) / t_scale});
+            wrapped += s.position()[k][0] < 0.5 * spacing && step % 50 == 0;
+        }
+#ifdef MICROMACRO_FP_CONTRACT
+        BOOST_TEST(worst < 1e-12, "rank " << distributed.comm().rank() << ", step " << step << ": relative difference " << worst);
+#else
+        BOOST_TEST(worst == 0.0, "rank " << distributed.comm().rank() << ", step " << step << ": relative difference " << worst);
+#endif
+    }
+    unsigned long long here = wrapped, all = 0;
+    MPI_Allreduce(&here, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+    BOOST_TEST(all > 0u, "no particle crossed the periodic boundary");
+    BOOST_TEST(distributed.redistributions() > 20u);
+    std::size_t contacts = 0;
+    serial.for_each_contact([&](const auto&) { ++contacts; });
+    BOOST_TEST(contacts == s.size(), "every particle keeps its two contacts");
 }

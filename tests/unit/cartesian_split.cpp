@@ -1,6 +1,8 @@
 // The MPI layer's split of a box into slabs (no MPI needed): every point has exactly one owner,
 // also on a slab boundary and whatever the rounding of the boundaries; points outside an open
-// box go to the end slabs; a halo wider than a slab is refused with the numbers and the fix.
+// box go to the end slabs; a halo wider than a slab is refused with the numbers and the fix; a
+// rank's search window unwraps a periodic axis of several slabs where its particles span less
+// than a period less a halo width.
 #define BOOST_TEST_MODULE unit_cartesian_split
 #include <boost/test/unit_test.hpp>
 
@@ -55,4 +57,23 @@ BOOST_AUTO_TEST_CASE(a_halo_wider_than_a_slab_is_refused) {
         BOOST_TEST(m.find("use fewer ranks") != std::string::npos, m);
     }
     BOOST_CHECK_THROW((mm::mpi::CartesianSplit<3>::of(box, {4, 1, 2}, {4, 0, 0})), mm::InputError);  // no slab 4 of 4
+}
+
+BOOST_AUTO_TEST_CASE(a_search_window_is_one_period_centred_on_the_slab_where_the_particles_fit) {
+    // x: periodic, 4 slabs of 0.01; y: one periodic slab; z: open, 2 slabs.
+    const mm::Domain<3> box(mm::Vec<3>::Zero(), mm::Vec<3>(0.04, 0.01, 0.02), {true, true, false});
+    const auto split = mm::mpi::CartesianSplit<3>::of(box, {4, 1, 2}, {1, 0, 1});
+    // The particles span 0.01 + 2 (0.004 + 0.001) = 0.02 along x, and 0.02 + 0.004 < 0.04.
+    const auto w = split.search_window(0.004, 0.001);
+    BOOST_TEST(w.unwrap[0]);
+    BOOST_TEST(w.origin[0] == 0.01 - 0.5 * (0.04 - 0.01), boost::test_tools::tolerance(1e-15));
+    BOOST_TEST(!w.unwrap[1]);  // one slab: the rank's engine wraps it as the serial one does
+    BOOST_TEST(!w.unwrap[2]);  // open: binned over the particles' extent anyway
+    // 0.01 + 2 (0.0085 + 0.001) + 0.0085 = 0.0375 < 0.04 still; 0.0095 gives 0.0405.
+    BOOST_TEST(split.search_window(0.0085, 0.001).unwrap[0]);
+    BOOST_TEST(!split.search_window(0.0095, 0.001).unwrap[0]);
+    // Two slabs of a periodic axis: each rank's particles reach round to the other side sooner.
+    const auto two = mm::mpi::CartesianSplit<3>::of(box, {2, 1, 1}, {0, 0, 0});
+    BOOST_TEST(two.search_window(0.006, 0.0005).unwrap[0]);    // 0.02 + 0.013 + 0.006 = 0.039
+    BOOST_TEST(!two.search_window(0.0065, 0.0005).unwrap[0]);  // 0.02 + 0.014 + 0.0065 = 0.0405
 }

@@ -1,6 +1,7 @@
 // Neighbour search: linked cells find exactly the pairs brute force finds, on polydisperse
-// packings (size ratio 1:10), open and periodic, 2D and 3D; and results do not depend on the
-// order of the particles.
+// packings (size ratio 1:10), open and periodic, 2D and 3D; a search window (an MPI rank's slab
+// of a periodic box) finds the periodic search's pairs and the engine the same forces; and
+// results do not depend on the order of the particles.
 #define BOOST_TEST_MODULE unit_neighbors
 #include <boost/test/unit_test.hpp>
 
@@ -50,6 +51,50 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(linked_cells_edge_cases, D, Dims) {
     mm::LinkedCells().find_pairs(q.x, q.r, mm::Domain<dim>(), 0.0, cells);
     mm::BruteForce().find_pairs(q.x, q.r, mm::Domain<dim>(), 0.0, brute);
     BOOST_TEST((cells == brute));
+}
+
+// Particles in a band across the periodic boundary of axis 0 (as an MPI rank holds them: its slab
+// and ghosts, wrapped into the box): binned in a window of one period around the band, as along
+// an open axis, linked cells find the pairs the periodic search finds, and an engine with the
+// window steps to the same bits as one without (the pairs are measured by the minimum image in
+// both).
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_search_window_finds_the_periodic_pairs, D, Dims) {
+    constexpr int dim = D::value;
+    const double L = dim == 2 ? 0.03 : 0.012, skin = 1e-4;
+    auto p = random_packing<dim>(dim == 2 ? 600 : 700, 0.5e-3, 1.5e-3, L, 4, true, true);
+    std::vector<mm::Vec<dim>> x;
+    std::vector<double> r;
+    for (std::size_t i = 0; i < p.x.size(); ++i)  // the band -L/5 <= x_0 < L/5, wrapped
+        if (p.x[i][0] < 0.2 * L || p.x[i][0] >= 0.8 * L) x.push_back(p.x[i]), r.push_back(p.r[i]);
+    const auto box = periodic_box<dim>(L);
+    mm::SearchWindow<dim> window;
+    window.unwrap[0] = true;
+    window.origin[0] = -0.5 * L;  // [-L/2, L/2): the band lies within, away from both ends
+    std::vector<mm::Vec<dim>> mapped;
+    std::vector<mm::IndexPair> periodic, windowed;
+    mm::LinkedCells().find_pairs(x, r, box, skin, periodic);
+    mm::LinkedCells().find_pairs(window.map(x, box, mapped), r, window.search_domain(box), skin, windowed);
+    BOOST_TEST_REQUIRE(periodic.size() > x.size());
+    std::size_t across = 0;  // pairs across the boundary: the case the window is for
+    for (const auto& q : periodic) across += std::abs(x[q.i][0] - x[q.j][0]) > 0.5 * L;
+    BOOST_TEST(across > 20u);
+    BOOST_TEST(!window.search_domain(box).periodic(0));
+    BOOST_TEST((windowed == periodic), "the window found " << windowed.size() << " pairs, the periodic search " << periodic.size());
+
+    auto run = [&](bool windowed_search) {
+        mm::Simulation<dim, mm::FrictionalLinear> sim(
+            mm::FrictionalLinear{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)}, box);
+        for (std::size_t i = 0; i < x.size(); ++i) sim.particles().add(x[i], r[i], mm::sphere_mass(rho, r[i]));
+        sim.set_time_step(mm::contact_duration(k, gamma0, mm::sphere_mass(rho, 0.5e-3) / 2) / 50);
+        sim.set_skin(skin);
+        if (windowed_search) sim.set_search_window(window);
+        sim.run(100);  // overlapping: the band expands, the lists are rebuilt
+        return sim;
+    };
+    const auto plain = run(false), with_window = run(true);
+    BOOST_TEST(plain.neighbor_rebuilds() > 3u);
+    BOOST_TEST((plain.particles().position() == with_window.particles().position()));
+    BOOST_TEST((plain.particles().velocity() == with_window.particles().velocity()));
 }
 
 // The same packing with its particles renumbered evolves identically (up to round-off from the

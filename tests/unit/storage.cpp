@@ -3,6 +3,9 @@
 #define BOOST_TEST_MODULE unit_storage
 #include <boost/test/unit_test.hpp>
 
+#include <cmath>
+#include <random>
+
 #include "support/scenes.hpp"
 
 using namespace mmtest;
@@ -116,6 +119,25 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(domain_minimum_image_and_wrap, D, Dims) {
     a[1] = 0.95;
     b[1] = 0.05;
     BOOST_TEST(std::abs(box.separation(a, b)[1] - 0.9) < 1e-15);  // axis 1 is not periodic
+    // The image of wrapped positions, one period off, to the bit of d - L round(d / L), on a
+    // period that is not a power of two, with far apart (unwrapped) positions rounded as before.
+    const mm::Domain<dim> odd(V::Constant(-0.3), V::Constant(0.7123), periodic);
+    const double L = 0.7123 + 0.3;
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> inside(-0.3, 0.7123), far(-5.0, 5.0);
+    bool same = true;
+    for (int k = 0; k < 20000; ++k) {
+        V p = V::Zero(), q = V::Zero();
+        p[0] = inside(rng), q[0] = k % 4 == 0 ? far(rng) : inside(rng);
+        const double d = p[0] - q[0];
+        const double expected = std::abs(d) >= 0.5 * L ? d - L * std::round(d / L) : d;
+        same &= odd.separation(p, q)[0] == expected;
+    }
+    BOOST_TEST(same);
+    V h = V::Zero(), z = V::Zero();
+    h[0] = 0.5 * L;  // half a period: both images are as near, the one rounding gives
+    BOOST_TEST(odd.separation(h, z)[0] == 0.5 * L - L * std::round(0.5));
+    BOOST_TEST(odd.separation(z, h)[0] == -0.5 * L + L);
     V c = V::Constant(0.5);
     c[0] = 2.25;
     box.wrap(c);

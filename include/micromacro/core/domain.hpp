@@ -112,7 +112,12 @@ public:
 
 private:
     [[gnu::noinline]] double nearest_image(double d, int k) const {
-        return periodic_[k] ? d - length_[k] * std::round(d / length_[k]) : d;
+        if (!periodic_[k]) return d;
+        // Wrapped positions are less than a period apart: then the image is one period off, and
+        // d -+ L is what the rounding below gives, without its division (the pairs across a
+        // periodic boundary, a few percent of them, take this path).
+        if (std::abs(d) < length_[k]) return d > 0.0 ? d - length_[k] : d + length_[k];
+        return d - length_[k] * std::round(d / length_[k]);
     }
 
     void refresh() {

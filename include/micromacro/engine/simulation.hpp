@@ -35,6 +35,7 @@
 #include "micromacro/engine/wall_work.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
+#include "micromacro/neighbors/search_window.hpp"
 #include "micromacro/neighbors/spatial_order.hpp"
 #include "micromacro/particles/particles.hpp"
 #include "micromacro/walls/walls.hpp"
@@ -86,10 +87,8 @@ public:
         prepared_ = false;
         return law_;
     }
-    template <class F>
-    F& body_force() { return std::get<F>(body_forces_); }
-    template <class F>
-    const F& body_force() const { return std::get<F>(body_forces_); }
+    template <class F> F& body_force() { return std::get<F>(body_forces_); }
+    template <class F> const F& body_force() const { return std::get<F>(body_forces_); }
 
     void set_time_step(double dt) {
         detail::require_positive(dt, "time step dt", "choose dt = t_c / 50 (see contact_duration)");
@@ -110,10 +109,7 @@ public:
     void set_track_energy(bool on) { track_energy_ = on; }
     bool track_energy() const { return track_energy_; }
     /// Lets prepare() accept positions coarser than 1e-6 of the smallest radius (float storage).
-    void allow_coarse_positions(bool allow) {
-        allow_coarse_positions_ = allow;
-        prepared_ = false;
-    }
+    void allow_coarse_positions(bool allow) { allow_coarse_positions_ = allow, prepared_ = false; }
 
     /// Threads for the pair loop and the particle passes (OpenMP): equal contiguous shares of the
     /// candidates, each thread's forces summed in thread order, so a fixed thread count gives the
@@ -171,6 +167,9 @@ public:
     /// own energy and books (their kinetic energy, a stress-controlled wall's pressure work and
     /// damper) are this process's to count. Default: no ghosts, the walls counted.
     void set_first_ghost(std::size_t first, bool counts_walls = true) { first_ghost_ = first, counts_walls_ = counts_walls; }
+    /// The neighbour search bins positions in `window` along the periodic axes it unwraps
+    /// (neighbors/search_window.hpp; mpi::DistributedRun, whose ranks hold slabs of the box).
+    void set_search_window(const SearchWindow<dim>& window) { window_ = window; }
 
     /// The spacing of representable coordinates at the farthest particle or wall from the origin
     /// (one unit in the last place): overlaps are differences of coordinates, so this is the
@@ -380,6 +379,8 @@ private:
     bool auto_sort_ = true;
     std::size_t first_ghost_ = std::numeric_limits<std::size_t>::max();
     bool counts_walls_ = true;
+    SearchWindow<dim> window_;
+    std::vector<SV> window_x_;  // the positions as the search sees them, where window_ unwraps an axis
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
     bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick
 };

@@ -189,16 +189,19 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     const auto& x = particles_.position();
     const auto& r = particles_.radius();
     auto& next = pairs_.scratch();
-    next.clear();
-    neighbors_.find_pairs(x, r, domain_, skin_, next);
+    const Domain<dim> search = window_.search_domain(domain_);
+    auto find = [&] {
+        next.clear();
+        neighbors_.find_pairs(window_.any() ? window_.map(x, domain_, window_x_) : x, r, search, skin_, next);
+    };
+    find();
     if (auto_sort_ && particles_.size() >= auto_sort_min_particles && !next.empty()) {
         const double gap = mean_index_gap(next);
         if (sorted_gap_ < 0.0) {
             sorted_gap_ = gap;  // the order sort_spatially left
         } else if (sorted_gap_ == 0.0 || gap > 2.0 * sorted_gap_) {  // never sorted, or the order has decayed
             sort_spatially();  // renumbers the present candidates and their histories too
-            next.clear();
-            neighbors_.find_pairs(x, r, domain_, skin_, next);
+            find();
             sorted_gap_ = mean_index_gap(next);
         }
     }

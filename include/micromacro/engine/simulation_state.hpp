@@ -77,7 +77,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::storage_bytes() const -> std::size_t {
     std::size_t b = particles_.size() * particles_.bytes_per_particle() + pairs_.bytes() +
-                    reference_.capacity() * sizeof(SV);
+                    (reference_.capacity() + window_x_.capacity()) * sizeof(SV);
     if constexpr (has_walls) b += wall_contacts_.bytes();
     b += pair_loop_.bytes();
     if constexpr (Integrator::keeps_previous_forces) {

@@ -13,6 +13,7 @@
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/neighbors/search_window.hpp"
 
 namespace micromacro::mpi {
 
@@ -58,16 +59,22 @@ struct CartesianSplit {
         return true;
     }
 
-    /// Whether axis a is one periodic slab: a rank then measures pairs across its boundary by
-    /// the minimum image itself, as the serial engine does, and needs no ghosts along it.
-    bool wraps_locally(int a) const { return periodic[a] && dims[a] == 1; }
-
-    /// The box a rank's engine runs in: periodic where the axis is one periodic slab, open
-    /// elsewhere (ghosts across a periodic boundary between ranks sit at their images).
-    Domain<dim> local_domain() const {
-        std::array<bool, dim> wraps{};
-        for (int a = 0; a < dim; ++a) wraps[a] = wraps_locally(a);
-        return Domain<dim>(lo, hi, wraps);
+    /// The window a rank's engine bins its particles in (neighbors/search_window.hpp). The
+    /// engine runs in the whole box, where its own particles lie within `drift` of its slab and
+    /// its ghosts within `width` (the largest contact distance plus the skin) and `drift` more.
+    /// Along a periodic axis of several slabs that span is searched as one period centred on
+    /// the slab, so that the cell grid covers the rank's particles and not the whole axis, where
+    /// it is shorter than the period less `width` (no pair within reach then straddles the
+    /// window's ends); else the whole periodic axis is searched.
+    SearchWindow<dim> search_window(double width, double drift) const {
+        SearchWindow<dim> w;
+        for (int a = 0; a < dim; ++a) {
+            const double L = hi[a] - lo[a], slab = sub_hi(a) - sub_lo(a);
+            if (!periodic[a] || dims[a] == 1 || !(slab + 2.0 * (width + drift) + width < L)) continue;
+            w.unwrap[a] = true;
+            w.origin[a] = sub_lo(a) - 0.5 * (L - slab);
+        }
+        return w;
     }
 
     /// Refuses a halo wider than one slab along an axis with a neighbour across it: the

@@ -1,9 +1,10 @@
 #pragma once
-// A scene run over MPI ranks with the serial engine: each rank runs a BasicSimulation on the
-// particles its subdomain owns followed by the ghosts of its halo (a ghost across a periodic
-// boundary between ranks sits at its image; an axis of one periodic slab stays periodic in the
-// rank's engine, so one rank runs the serial engine on the serial box), and after every
-// particle pass refreshes the ghosts from their owners before the forces are computed. The forces, laws, springs and
+// A scene run over MPI ranks with the serial engine: each rank runs a BasicSimulation in the
+// whole box on the particles its subdomain owns followed by the ghosts of its halo, at their
+// wrapped positions, so that a pair across a periodic boundary is measured by the minimum image
+// and a particle wraps in the step it crosses, as in the serial run (CartesianSplit::
+// search_window), and after every particle pass refreshes the ghosts from their owners before
+// the forces are computed. One rank runs the serial engine on the serial box. The forces, laws, springs and
 // integrator are the serial ones: the integrator policy drives this class through the same
 // stages (kick_drift_kick, compute_forces, kick_force_change) it drives the engine through. A
 // ghost's own force is incomplete and never used: its state is overwritten at every refresh.
@@ -341,7 +342,7 @@ private:
         std::optional<OpenBooks> books = std::exchange(books_at_start_, std::nullopt);
         if (local_) books = local_->open_books();
         halo_.emplace(comm_, owned, width_);
-        local_.emplace(engine(comm_.split().local_domain(), walls_));
+        local_.emplace(engine(box_, walls_));
         global_.clear();
         for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
             for (const ParticleRecord& r : *set) {
@@ -353,6 +354,7 @@ private:
         local_->set_time_step(dt_);
         local_->set_skin(skin_);
         local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
+        local_->set_search_window(comm_.split().search_window(width_, skin_));
         local_->set_first_ghost(owned_, comm_.rank() == 0);  // the walls' own books on rank 0
         local_->set_track_energy(track_);
         local_->set_threads(threads_);

@@ -1,11 +1,15 @@
 #pragma once
 // Ghost particles: copies of the particles within a halo width of a rank's subdomain, from the
-// ranks that own them, placed where this rank sees them (shifted by a box length across a
-// periodic boundary). An axis of one slab has none: open, it has no neighbour; periodic, the
-// rank's engine measures across it by the minimum image (CartesianSplit::local_domain). Building a Halo (LAMMPS's Comm::borders) runs axis by axis, each axis both
-// ways, and passes on the ghosts already received, so that particles diagonally across a corner
-// arrive too: afterwards a rank holds every particle image whose position lies within `width` of
-// its subdomain (the subdomain grown by `width` on every side with a neighbour), each once.
+// ranks that own them, at their owners' positions in the whole box (wrapped into it, as the
+// serial engine keeps them): a rank's engine runs in the whole box and measures a pair across a
+// periodic boundary by the minimum image, as the serial engine does. An axis of one slab has
+// none: open, it has no neighbour; periodic, the rank's engine wraps it itself. Building a Halo
+// (LAMMPS's Comm::borders) runs axis by axis, each axis both ways, and passes on the ghosts
+// already received, so that particles diagonally across a corner arrive too: afterwards a rank
+// holds, once each, every particle of another rank with an image within `width` of its
+// subdomain (the subdomain grown by `width` on every side with a neighbour). Where both
+// neighbours along an axis are one rank (two slabs of a periodic axis) a particle near both
+// faces goes once: its one copy serves both sides by the minimum image.
 // refresh() (LAMMPS's forward_comm) sends the same particles' new states along the same swaps,
 // for the steps until the next rebuild. Needs a halo no wider than a slab
 // (CartesianSplit::check_halo).
@@ -142,16 +146,18 @@ public:
         owned_count_ = owned.size();
         for (int a = 0; a < dim; ++a) {
             if (split.dims[a] == 1) continue;  // no neighbour, or the rank's own minimum image (CartesianSplit::wraps_locally)
-            const double lo = split.sub_lo(a), hi = split.sub_hi(a), length = split.hi[a] - split.lo[a];
+            const double lo = split.sub_lo(a), hi = split.sub_hi(a);
             // What goes down (to the rank below) and up, chosen from the owned particles and the
-            // ghosts received along the earlier axes, before this axis's ghosts are added.
-            Swap down{a, -1, split.coords[a] == 0 ? length : 0.0, {}, 0, 0};
-            Swap up{a, +1, split.coords[a] == split.dims[a] - 1 ? -length : 0.0, {}, 0, 0};
+            // ghosts received along the earlier axes, before this axis's ghosts are added; to a
+            // rank that is both neighbours, once.
+            const bool one_neighbour = comm.neighbour(a, -1) == comm.neighbour(a, +1);
+            Swap down{a, -1, {}, 0, 0}, up{a, +1, {}, 0, 0};
             const std::size_t known = owned.size() + ghosts_.size();
             for (std::size_t k = 0; k < known; ++k) {
                 const ParticleRecord& p = k < owned.size() ? owned[k] : ghosts_[k - owned.size()];
-                if (p.x[a] < lo + width) down.sent.push_back(k);
-                if (p.x[a] >= hi - width) up.sent.push_back(k);
+                const bool goes_down = p.x[a] < lo + width;
+                if (goes_down) down.sent.push_back(k);
+                if (p.x[a] >= hi - width && !(one_neighbour && goes_down)) up.sent.push_back(k);
             }
             for (Swap* s : {&down, &up}) {
                 s->received_begin = ghosts_.size();
@@ -183,10 +189,7 @@ public:
     void refresh(const CartesianComm<dim>& comm, Read&& read, Write&& write) {
         for (const Swap& s : swaps_) {
             sent_.clear();
-            for (const std::size_t k : s.sent) {
-                sent_.push_back(read(k));
-                sent_.back().x[s.axis] += s.shift;
-            }
+            for (const std::size_t k : s.sent) sent_.push_back(read(k));
             received_.resize(s.received_count);
             halo_detail::shift_into(comm.comm(), sent_, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction),
                                     received_);
@@ -225,11 +228,9 @@ public:
 
 private:
     /// One exchange across a face: which of the owned and ghost particles go (their indices in
-    /// owned followed by ghosts), shifted by `shift` along `axis` (a box length across the
-    /// box's end on a periodic axis), and where what comes back lands in the ghosts.
+    /// owned followed by ghosts) along `axis`, and where what comes back lands in the ghosts.
     struct Swap {
         int axis, direction;
-        double shift;
         std::vector<std::size_t> sent;
         std::size_t received_begin, received_count;
     };
@@ -238,10 +239,7 @@ private:
     std::vector<ParticleRecord> send(const CartesianComm<dim>& comm, const Swap& s, Owned&& owned, long long expected) const {
         std::vector<ParticleRecord> out;
         out.reserve(s.sent.size());
-        for (const std::size_t k : s.sent) {
-            out.push_back(k < owned_count_ ? owned(k) : ghosts_[k - owned_count_]);
-            out.back().x[s.axis] += s.shift;
-        }
+        for (const std::size_t k : s.sent) out.push_back(k < owned_count_ ? owned(k) : ghosts_[k - owned_count_]);
         return halo_detail::shift(comm.comm(), out, comm.neighbour(s.axis, s.direction), comm.neighbour(s.axis, -s.direction),
                                   expected);
     }
