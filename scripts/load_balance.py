@@ -5,7 +5,8 @@
 
 Reads the particle frames of a `biaxial` run (RUN_DIR/vtk/particles.pvd, written with
 --vtk-every) and, for each rank count (default 2 4 8), splits the box into equal slabs per axis as
-mpi::DistributedRun does (dims as MPI_Dims_create chooses them) in two ways:
+mpi::DistributedRun does (MPI_Dims_create's counts, the most slabs along the longest axis of the
+first frame's extent, of equal ones the last) in two ways:
   fixed:     over the particles' extent in the first frame, kept (particles outside it belong to
              the end slabs);
   following: over the particles' extent in each frame (what DistributedRun does along the axes
@@ -32,6 +33,16 @@ def dims_create(ranks, dim):
     for f in sorted(factors, reverse=True):
         dims[dims.index(min(dims))] *= f
     return sorted(dims, reverse=True)
+
+
+def dims_for(ranks, dim, lo, hi):
+    """The slabs per axis mpi::CartesianComm gives the box lo..hi: MPI_Dims_create's counts,
+    largest first, onto the axes, longest first (of equal ones, the last)."""
+    axes = sorted(range(dim), key=lambda a: (hi[a] - lo[a], a), reverse=True)
+    dims = [1] * dim
+    for a, d in zip(axes, dims_create(ranks, dim)):
+        dims[a] = d
+    return dims
 
 
 def counts(x, lo, hi, dims):
@@ -82,14 +93,15 @@ def main():
     dim = 3 if any(p[2] != frames[0][1][0][2] for p in frames[0][1]) else 2
     first_lo, first_hi = extent(frames[0][1], frames[0][2], dim)
     print(f"{run}: {dim}D, {len(frames[0][2])} particles, {len(frames)} frames")
-    header = "eps_zz " + " ".join(f"{R}({'x'.join(map(str, dims_create(R, dim)))}):fixed/following" for R in ranks)
+    split = {R: dims_for(R, dim, first_lo, first_hi) for R in ranks}
+    header = "eps_zz " + " ".join(f"{R}({'x'.join(map(str, split[R]))}):fixed/following" for R in ranks)
     print(header)
     worst = {R: [0.0, 0.0] for R in ranks}
     for strain, x, r in frames:
         lo, hi = extent(x, r, dim)
         cells = []
         for R in ranks:
-            dims = dims_create(R, dim)
+            dims = split[R]
             fixed, following = imbalance(counts(x, first_lo, first_hi, dims)), imbalance(counts(x, lo, hi, dims))
             worst[R] = [max(worst[R][0], fixed), max(worst[R][1], following)]
             cells.append(f"{fixed:.3f}/{following:.3f}")

@@ -1,15 +1,17 @@
 // The MPI layer's decomposition and halo, run under mpirun with 1-4 ranks (tests/CMakeLists.txt):
-// every particle of a periodic packing has exactly one owner; each rank receives as ghosts exactly
-// the particles with an image within the halo width of its subdomain, once each, at their owners'
-// positions (checked against every image of every particle, periodic ones included); the forces and torques on each rank's own particles,
-// computed by the serial engine from its own and ghost particles alone, are the serial run's to
-// round-off; and a refresh brings every ghost its owner's new state. In 2D and 3D, with the
-// frictional law (new contacts start their springs from the time they have touched, so the
-// tangential forces are not zero).
+// the most slabs go along the longest axis; every particle of a periodic packing has exactly one
+// owner; each rank receives as ghosts exactly the particles with an image within the halo width
+// of its subdomain, once each, at their owners' positions (checked against every image of every
+// particle, periodic ones included); the forces and torques on each rank's own particles,
+// computed by the serial engine in the whole box from its own and ghost particles alone, are the
+// serial run's to round-off; and a refresh brings every ghost its owner's new state. In 2D and
+// 3D, with the frictional law (new contacts start their springs from the time they have touched,
+// so the tangential forces are not zero).
 #define BOOST_TEST_MODULE mpi_halo
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <map>
 #include <random>
@@ -190,4 +192,24 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_refresh_brings_the_ghosts_their_owners_new_state
     std::size_t moved = 0;
     for (std::size_t k = 0; k < before.ghosts().size() && k < halo.ghosts().size(); ++k) moved += before.ghosts()[k].v != halo.ghosts()[k].v;
     BOOST_TEST(moved == halo.ghosts().size());
+}
+
+// The split puts the most slabs along the longest axis, of equal ones the last (the axis the
+// engine's spatial order runs slowest along): MPI_Dims_create's counts, largest first, onto the
+// axes longest first; dims given by the caller stay as given.
+BOOST_AUTO_TEST_CASE(the_most_slabs_go_along_the_longest_axis) {
+    const int ranks = mmtest::world_size();
+    std::array<int, 3> balanced{};
+    MPI_Dims_create(ranks, 3, balanced.data());  // largest first
+    auto dims_over = [](const mm::Domain<3>& box) {
+        const mm::mpi::CartesianComm<3> comm(MPI_COMM_WORLD, box);
+        return comm.split().dims;
+    };
+    const mm::Vec<3> zero = mm::Vec<3>::Zero();
+    const auto cube = dims_over(mm::Domain<3>::fully_periodic(zero, mm::Vec<3>::Constant(0.01)));
+    BOOST_TEST((cube == std::array<int, 3>{balanced[2], balanced[1], balanced[0]}));
+    const auto long_x = dims_over(mm::Domain<3>::fully_periodic(zero, mm::Vec<3>(0.04, 0.01, 0.02)));
+    BOOST_TEST((long_x == std::array<int, 3>{balanced[0], balanced[2], balanced[1]}));
+    const mm::mpi::CartesianComm<3> fixed(MPI_COMM_WORLD, mm::Domain<3>::fully_periodic(zero, mm::Vec<3>::Constant(0.01)), {ranks, 1, 1});
+    BOOST_TEST((fixed.split().dims == std::array<int, 3>{ranks, 1, 1}));
 }

@@ -26,7 +26,7 @@ namespace micromacro::mpi {
 
 /// This rank's part of the whole scene's snapshot: its particles [0, run.owned()) and its ghosts,
 /// its contacts, the walls (every rank's are the same, with the forces summed over the ranks), the
-/// whole box, positions and contact points wrapped into it (a ghost may sit at a periodic image).
+/// whole box, positions and contact points wrapped into it.
 /// A collective call: it brings the ghosts up to date first.
 template <class Sim>
 PackingSnapshot<Sim::dimension> local_snapshot(DistributedRun<Sim>& run) {

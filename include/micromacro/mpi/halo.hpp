@@ -137,15 +137,15 @@ std::vector<T> shift(MPI_Comm comm, const std::vector<T>& out, int to, int from,
 template <int dim>
 class Halo {
 public:
-    /// The ghosts of this rank: every image of another rank's particle within `width` of this
-    /// rank's subdomain along the axes of more than one slab. `owned` are the particles this rank
-    /// owns, at positions inside its subdomain.
+    /// The ghosts of this rank: every particle of another rank with an image within `width` of
+    /// this rank's subdomain along the axes of more than one slab, once, at its own position.
+    /// `owned` are the particles this rank owns, at positions inside its subdomain.
     Halo(const CartesianComm<dim>& comm, const std::vector<ParticleRecord>& owned, double width) {
         const CartesianSplit<dim>& split = comm.split();
         split.check_halo(width);
         owned_count_ = owned.size();
         for (int a = 0; a < dim; ++a) {
-            if (split.dims[a] == 1) continue;  // no neighbour, or the rank's own minimum image (CartesianSplit::wraps_locally)
+            if (split.dims[a] == 1) continue;  // no neighbour, or one periodic slab the rank's engine wraps itself
             const double lo = split.sub_lo(a), hi = split.sub_hi(a);
             // What goes down (to the rank below) and up, chosen from the owned particles and the
             // ghosts received along the earlier axes, before this axis's ghosts are added; to a
