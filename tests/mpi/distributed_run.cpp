@@ -348,9 +348,9 @@ BOOST_AUTO_TEST_CASE(threads_within_ranks_keep_the_serial_state) {
 
 // Rows of particles along the first axis, each touching its two neighbours in its row (rows too
 // far apart to touch), drifting along the rows at 2 m/s with small random velocities and spins:
-// every pair's force is added to at most two on a particle, in either order the same sum, so the
-// run on any number of ranks must give the serial bits where a rank measures each pair and
-// wraps each particle as the serial engine does: pairs across the periodic boundary between ranks
+// a particle has two contacts, whose forces add to the same sum in either order, so the run on
+// any number of ranks must give the serial bits where a rank measures each pair and wraps each
+// particle as the serial engine does: pairs across the periodic boundary between ranks
 // by the minimum image, particles wrapped in the step they cross it (some sit 50 um before it),
 // handed to new ranks every few steps (a skin of 10 um). Without fused multiply-adds the bits; with
 // them a pair's force depends on which partner the rank numbers first, so round-off.
