@@ -9,7 +9,7 @@
 // interval shorter than L less a contact distance, so that no pair within reach straddles the
 // window's ends (mpi::DistributedRun unwraps an axis only then).
 #include <array>
-#include <cmath>
+#include <cstddef>
 #include <vector>
 
 #include "micromacro/core/dim_traits.hpp"
@@ -36,15 +36,21 @@ struct SearchWindow {
         return Domain<dim>(box.lo(), box.hi(), periodic);
     }
 
-    /// The positions `x` of `box` mapped into the window along the unwrapped axes, into `out`.
+    /// The positions `x` of `box` mapped into the window along the unwrapped axes, into `out`:
+    /// wrapped into the window as a box of one period wraps them (Domain::wrap).
     template <class Real>
     const std::vector<Vec<dim, Real>>& map(const std::vector<Vec<dim, Real>>& x, const Domain<dim>& box,
                                            std::vector<Vec<dim, Real>>& out) const {
-        out = x;
-        for (int a = 0; a < dim; ++a) {
-            if (!unwrap[a] || !box.periodic(a)) continue;
-            const double L = box.length(a);
-            for (auto& p : out) p[a] = Real(double(p[a]) - L * std::floor((double(p[a]) - origin[a]) / L));
+        Vec<dim> lo = box.lo(), hi = box.hi();
+        std::array<bool, dim> periodic{};
+        for (int a = 0; a < dim; ++a)
+            if (unwrap[a] && box.periodic(a)) periodic[a] = true, lo[a] = origin[a], hi[a] = origin[a] + box.length(a);
+        const Domain<dim> period(lo, hi, periodic);
+        out.resize(x.size());
+        for (std::size_t i = 0; i < x.size(); ++i) {
+            Vec<dim> p = convert<double>(x[i]);
+            period.wrap(p);
+            out[i] = convert<Real>(p);
         }
         return out;
     }
