@@ -7,6 +7,7 @@
 // tangential law there is no history and no rotation; with `NoWalls` there is no wall code.
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <string>
 #include <tuple>
@@ -170,6 +171,12 @@ public:
     /// The neighbour search bins positions in `window` along the periodic axes it unwraps
     /// (neighbors/search_window.hpp; mpi::DistributedRun, whose ranks hold slabs of the box).
     void set_search_window(const SearchWindow<dim>& window) { window_ = window; }
+    /// The candidate pairs in the order of `key`, one distinct key per particle, instead of the
+    /// particles' indices: each pair's i has the smaller key, the pairs go by i's key and then
+    /// j's, and each particle's forces are summed as with the particles numbered in key order
+    /// (mpi::DistributedRun's ranks sum in the serial run's order so). The pair loop then runs
+    /// on one thread. Empty (the default): the index order. Not part of the saved state.
+    void set_pair_order(std::vector<std::uint64_t> key);
 
     /// The spacing of representable coordinates at the farthest particle or wall from the origin
     /// (one unit in the last place): overlaps are differences of coordinates, so this is the
@@ -319,20 +326,10 @@ private:
     }
 
     // The arrays the pair and wall loops read: the particles' (particle_input) and a contact list's.
-    detail::ContactLoopInput<dim, Real, History> particle_input() const {
-        detail::ContactLoopInput<dim, Real, History> in{particles_.position().data(), particles_.velocity().data(),
-                                                        particles_.radius().data(),
-                                                        particles_.template get<field::InverseMass>().data(), nullptr,
-                                                        nullptr, nullptr};
-        if constexpr (rotation) in.w = particles_.template get<field::AngularVelocity>().data();
-        return in;
-    }
-    detail::ContactLoopInput<dim, Real, History> contact_input(ContactList<History>& list) {
-        auto in = particle_input();
-        in.pair = list.pairs().data();
-        if constexpr (Law::has_history) in.history = list.history_data();
-        return in;
-    }
+    detail::ContactLoopInput<dim, Real, History> particle_input() const;
+    detail::ContactLoopInput<dim, Real, History> contact_input(ContactList<History>& list);
+    // The order of the candidate pairs (set_pair_order).
+    PairOrder pair_order() const { return {pair_key_.empty() ? nullptr : &pair_key_}; }
 
     template <class F>
     double gravitational_energy(const F& force) const;
@@ -380,6 +377,7 @@ private:
     std::size_t first_ghost_ = std::numeric_limits<std::size_t>::max();
     bool counts_walls_ = true;
     SearchWindow<dim> window_;
+    std::vector<std::uint64_t> pair_key_;  // set_pair_order's keys by particle index; empty: index order
     std::vector<SV> window_x_;  // the positions as the search sees them, where window_ unwraps an axis
     bool prepared_ = false, allow_unstable_ = false, track_energy_ = true, allow_coarse_positions_ = false;
     bool accumulators_cleared_ = false;  // the force (and torque) arrays are zero and sized: see kick_drift_kick

@@ -20,14 +20,35 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::particle_input() const
+    -> detail::ContactLoopInput<dim, Real, History> {
+    detail::ContactLoopInput<dim, Real, History> in{particles_.position().data(), particles_.velocity().data(),
+                                                    particles_.radius().data(), particles_.template get<field::InverseMass>().data(),
+                                                    nullptr, nullptr, nullptr};
+    if constexpr (rotation) in.w = particles_.template get<field::AngularVelocity>().data();
+    return in;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::contact_input(ContactList<History>& list)
+    -> detail::ContactLoopInput<dim, Real, History> {
+    auto in = particle_input();
+    in.pair = list.pairs().data();
+    if constexpr (Law::has_history) in.history = list.history_data();
+    return in;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <bool track>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::pair_forces() -> void {
     SA* torque = nullptr;
     if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
     auto in = contact_input(pairs_);
     in.first_ghost = static_cast<Index>(owned_count());
-    pair_loop_.template run<track>(in, pairs_.size(), static_cast<Index>(particles_.size()), active_threads(),
-                                   domain_, law_, dt_, particles_.template get<field::Force>().data(), torque, step_books_);
+    // The thread shares split the list by particle index: a list in another order runs on one.
+    const int shares = pair_key_.empty() ? active_threads() : 1;
+    pair_loop_.template run<track>(in, pairs_.size(), static_cast<Index>(particles_.size()), shares, domain_, law_, dt_,
+                                   particles_.template get<field::Force>().data(), torque, step_books_);
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>

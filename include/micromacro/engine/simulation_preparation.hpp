@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <vector>
 
 #include "micromacro/engine/simulation.hpp"
@@ -154,6 +155,25 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::set_pair_order(std::vector<std::uint64_t> key)
+    -> void {
+    if (!key.empty()) {
+        if (key.size() != particles_.size())
+            detail::throw_input_error("set_pair_order: ", key.size(), " keys for ", particles_.size(),
+                                      " particles; give one key per particle (or none for the index order)");
+        std::vector<std::uint64_t> sorted = key;
+        std::sort(sorted.begin(), sorted.end());
+        if (const auto twin = std::adjacent_find(sorted.begin(), sorted.end()); twin != sorted.end())
+            detail::throw_input_error("set_pair_order: the key ", *twin, " is given to two particles; give each particle its own");
+    }
+    pair_key_ = std::move(key);
+    // The present list in the new order, each turned pair's spring seen from its other partner.
+    std::vector<Index> same(particles_.size());
+    std::iota(same.begin(), same.end(), Index{0});
+    pairs_.renumber(same, true, pair_order());
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::renumber(const std::vector<Index>& order) -> void {
     const std::size_t n = particles_.size();
     if (order.size() != n)
@@ -167,11 +187,12 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     const detail::Permutation permute{order};  // an archive that reorders every array it visits
     particles_.serialize(permute);
     permute.array(reference_);
+    permute.array(pair_key_);  // each particle keeps its key
     if constexpr (Integrator::keeps_previous_forces) {
         permute.array(previous_force_);
         if constexpr (rotation) permute.array(previous_torque_);
     }
-    pairs_.renumber(new_index, true);
+    pairs_.renumber(new_index, true, pair_order());
     if constexpr (has_walls) wall_contacts_.renumber(new_index, false);
 }
 
@@ -209,7 +230,15 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         next.erase(std::remove_if(next.begin(), next.end(),
                                   [g = static_cast<Index>(first_ghost_)](const IndexPair& p) { return p.i >= g && p.j >= g; }),
                    next.end());
-    pairs_.commit_scratch();
+    if (!pair_key_.empty()) {  // the search gives the index order
+        if (pair_key_.size() != particles_.size())
+            detail::throw_input_error("set_pair_order: ", pair_key_.size(), " keys for ", particles_.size(),
+                                      " particles; give the keys again after adding particles");
+        const PairOrder order = pair_order();
+        for (IndexPair& p : next) p = order.oriented(p);
+        std::sort(next.begin(), next.end(), [&](const IndexPair& a, const IndexPair& b) { return order.less(a, b); });
+    }
+    pairs_.commit_scratch(pair_order());
     reference_ = x;
     if constexpr (has_walls) {
         auto& wn = wall_contacts_.scratch();

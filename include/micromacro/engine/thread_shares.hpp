@@ -63,6 +63,8 @@ public:
         coincident_.assign(shares, IndexPair{0, 0});
         spills_.resize(shares);
         for (auto& list : spills_) list.clear();
+        opened_.resize(shares);
+        for (auto& list : opened_) list.clear();
         // Share t: candidates [begin, end), particles below owned_end its own. Without periodic
         // axes the separations need no minimum-image test; without ghosts (or books) no pair is
         // weighed for the books.
@@ -70,7 +72,7 @@ public:
         auto share = [&](std::size_t begin, std::size_t end, int t, Index owned_end) {
             auto loop = [&](auto periodic_box, auto weighed) {
                 pair_loop<track, decltype(periodic_box)::value, rotation, decltype(weighed)::value>(
-                    in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t]);
+                    in, domain, law, dt, begin, end, f, torque, thread_books_[t], coincident_[t], owned_end, spills_[t], opened_[t]);
             };
             using Weighed = std::bool_constant<track>;  // false instantiates nothing new
             if (periodic) ghosts ? loop(std::true_type{}, Weighed{}) : loop(std::true_type{}, std::false_type{});
@@ -98,16 +100,18 @@ public:
             for (const EnergyBooks& b : thread_books_) books.add(b);  // in thread order
     }
 
-    /// Bytes of the spill lists, capacities counted.
+    /// Bytes of the spill and opened-contact lists, capacities counted.
     std::size_t bytes() const {
         std::size_t b = 0;
         for (const auto& list : spills_) b += list.capacity() * sizeof(Spill<dim, Real, rotation>);
+        for (const auto& list : opened_) b += list.capacity() * sizeof(std::size_t);
         return b;
     }
 
 private:
     std::vector<std::size_t> share_start_;
     std::vector<std::vector<Spill<dim, Real, rotation>>> spills_;
+    std::vector<std::vector<std::size_t>> opened_;  // each share's contacts found open (pair_loop)
     std::vector<EnergyBooks> thread_books_;
     std::vector<IndexPair> coincident_;
 };

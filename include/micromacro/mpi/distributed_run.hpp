@@ -32,6 +32,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <tuple>
 #include <type_traits>
@@ -113,7 +114,7 @@ public:
         }
         std::vector<State> all;
         for (std::size_t i = 0; i < p.size(); ++i) {
-            State s{record_of(p, i, first_id + p.id(i)), {}, {}};
+            State s{record_of(p, i, first_id + p.id(i), first_id + static_cast<Index>(i)), {}, {}};
             Vec<dim> x = p.position()[i];
             box_.wrap(x);  // as the serial engine does before its first step
             for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = resume ? double(p.force()[i][a]) : 0.0;
@@ -156,7 +157,12 @@ public:
     /// now), in the whole scene's box: what mpi::whole_scene fills.
     Sim empty_scene() const { return engine(box_, local_->walls()); }
     /// Threads for each rank's engine (BasicSimulation::set_threads): ranks x threads the cores.
-    void set_threads(int threads) { local_->set_threads(threads), threads_ = threads; }
+    /// With one, each rank sums a particle's forces in the order of the partners' global ids (see
+    /// serial_pair_order); with more, in the thread shares' order.
+    void set_threads(int threads) {
+        local_->set_threads(threads), threads_ = threads;
+        serial_pair_order();
+    }
     /// The contact law from now on, as a serial scene's law() changed between steps (friction
     /// switched on after a preparation): the next step() or run() first evaluates the present
     /// forces again with it (and with the body forces as they are then), as the serial scene's
@@ -289,40 +295,7 @@ private:
     /// pairs, axis by axis to the neighbouring ranks (a particle moves less than a slab between
     /// two distributions, at most one slab along each axis); the others stay, with their springs.
     /// Then halos and the engine are built afresh.
-    void redistribute() {
-        const auto& p = local_->particles();
-        follow_extent<dim>(comm_, p, owned_, follows_);  // where walls alone bound the box
-        std::vector<State> states;
-        for (std::size_t i = 0; i < owned_; ++i) {
-            State s{record_of(p, i, global_[i]), {}, record_angular<dim>(p.template get<field::Torque>()[i])};
-            Vec<dim> x = p.position()[i];
-            box_.wrap(x);
-            for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = p.force()[i][a];
-            states.push_back(s);
-        }
-        // Every spring with at least one of this rank's particles, carried by each of them that
-        // is this rank's (so that it goes wherever either goes).
-        std::vector<CarriedSpring> carried;
-        local_->visit_pair_histories([&](Index i, Index j, const History& h) {
-            if (i >= owned_ && j >= owned_) return;  // between two ghosts: another rank's
-            const Index a = global_id(i), b = global_id(j);
-            const auto pair = PairSpring<History>::of(a, b, h);
-            if (i < owned_) carried.push_back({a, false, pair});
-            if (j < owned_) carried.push_back({b, false, pair});
-        });
-        if constexpr (Sim::has_walls) {  // every wall contact is an owned particle's
-            local_->visit_wall_histories([&](Index i, Index w, const History& h) {
-                carried.push_back({global_id(i), true, {global_id(i), w, h}});
-            });
-            walls_ = local_->walls();
-        }
-        migrate(comm_, states, carried);
-        SpringsByPair<History> by_pair, by_wall;
-        for (const CarriedSpring& cs : carried)  // a pair's held twice: the first
-            (cs.wall ? by_wall : by_pair).emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);
-        distribute(states, by_pair, by_wall, Stage::within_step);
-        ++redistributions_;
-    }
+    void redistribute();
 
     /// This rank's engine on the particles of `all` it owns and the ghosts of its new halo, with
     /// the walls of walls_, each pair's spring from `springs` and each wall contact's from
@@ -330,52 +303,13 @@ private:
     /// are computed; else the last forces and torques are restored (for the integrator's closing
     /// kick within a step) and so are the walls' forces.
     void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs,
-                    Stage stage) {
-        std::vector<ParticleRecord> owned;
-        std::vector<const State*> own_states;
-        for (const State& s : all) {
-            if (!comm_.split().owns(vector_of_record<dim>(s.r.x))) continue;
-            owned.push_back(s.r);
-            own_states.push_back(&s);
-        }
-        // Within a step this rank's books go on in its new engine; at the start, a scene's that has run.
-        std::optional<OpenBooks> books = std::exchange(books_at_start_, std::nullopt);
-        if (local_) books = local_->open_books();
-        halo_.emplace(comm_, owned, width_);
-        local_.emplace(engine(box_, walls_));
-        global_.clear();
-        for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
-            for (const ParticleRecord& r : *set) {
-                const std::size_t i = local_->particles().add(vector_of_record<dim>(r.x), r.radius, r.mass, r.inertia);
-                write_motion(i, Motion<dim>::of(r));
-                global_.push_back(r.id);
-            }
-        owned_ = owned.size();
-        local_->set_time_step(dt_);
-        local_->set_skin(skin_);
-        local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
-        local_->set_search_window(comm_.split().search_window(width_, skin_));
-        local_->set_first_ghost(owned_, comm_.rank() == 0);  // the walls' own books on rank 0
-        local_->set_track_energy(track_);
-        local_->set_threads(threads_);
-        local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
-        local_->prepare();                 // the lists (and forces, replaced below unless fresh)
-        if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
-        rebuilds_ = local_->neighbor_rebuilds();
-        ghosts_current_ = true;
-        if (stage == Stage::fresh) {
-            if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
-            return;
-        }
-        if constexpr (Sim::has_walls)
-            for (std::size_t k = 0; k < walls_.size(); ++k) local_->walls()[k].force = walls_[k].force;
-        auto& p = local_->particles();
-        for (std::size_t i = 0; i < owned_; ++i) {
-            for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
-            p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
-        }
-        restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
-        if constexpr (Sim::has_walls) restore_wall_springs(*local_, wall_springs, [&](Index i) { return global_id(i); });
+                    Stage stage);
+
+    /// On one thread, the engine's pairs in the order of their particles' places in the serial
+    /// numbering (the whole scene's, or the shares' in rank order): each particle's forces are
+    /// then summed as in the serial run, whatever the split (BasicSimulation::set_pair_order).
+    void serial_pair_order() {
+        local_->set_pair_order(threads_ == 1 ? std::vector<std::uint64_t>(place_.begin(), place_.end()) : std::vector<std::uint64_t>{});
     }
 
     CartesianComm<dim> comm_;
@@ -387,6 +321,7 @@ private:
     std::optional<Sim> local_;
     std::optional<Halo<dim>> halo_;
     std::vector<Index> global_;    // by local id (the order added): owned, then ghosts
+    std::vector<Index> place_;     // by local id: the place in the serial numbering
     std::size_t owned_ = 0, rebuilds_ = 0, redistributions_ = 0;
     int threads_ = 1;
     bool ghosts_current_ = true;  // false from a closing kick to the next refresh
@@ -398,3 +333,6 @@ private:
 };
 
 }  // namespace micromacro::mpi
+
+// The members defined apart: the hand-over of particles between ranks.
+#include "micromacro/mpi/distribution.hpp"

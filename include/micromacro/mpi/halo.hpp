@@ -33,6 +33,7 @@ namespace micromacro::mpi {
 /// z only in 2D).
 struct ParticleRecord {
     Index id;                   ///< the particle's global id
+    Index place = 0;            ///< its place in the serial run's numbering (DistributedRun sums forces in that order)
     double radius, mass, inertia;
     std::array<double, 3> x, v, w;
 };
@@ -85,10 +86,12 @@ Angular<dim> angular_of_record(const std::array<double, 3>& w) {
     else return Vec<3>(w[0], w[1], w[2]);
 }
 
-/// Particle i of a particle set with rotation as a record, with the global id `id`.
+/// Particle i of a particle set with rotation as a record, with the global id `id` and the
+/// place `place` in the serial numbering.
 template <int dim, class Real>
-ParticleRecord record_of(const Particles<dim, true, Real>& p, std::size_t i, Index id) {
+ParticleRecord record_of(const Particles<dim, true, Real>& p, std::size_t i, Index id, Index place = 0) {
     return {id,
+            place,
             double(p.radius()[i]),
             double(p.mass()[i]),
             double(p.template get<field::Inertia>()[i]),

@@ -1,0 +1,102 @@
+#pragma once
+// DistributedRun's hand-over of particles between ranks: redistribute() sends the particles that
+// left a rank's subdomain to their new owners with their springs, distribute() builds a rank's
+// engine on the particles it owns and the ghosts of its new halo.
+#include <array>
+#include <optional>
+#include <utility>
+#include <vector>
+
+#include "micromacro/mpi/distributed_run.hpp"
+
+namespace micromacro::mpi {
+
+template <class Sim>
+inline void DistributedRun<Sim>::redistribute() {
+    const auto& p = local_->particles();
+    follow_extent<dim>(comm_, p, owned_, follows_);  // where walls alone bound the box
+    std::vector<State> states;
+    for (std::size_t i = 0; i < owned_; ++i) {
+        State s{record_of(p, i, global_[i], place_[i]), {}, record_angular<dim>(p.template get<field::Torque>()[i])};
+        Vec<dim> x = p.position()[i];
+        box_.wrap(x);
+        for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = p.force()[i][a];
+        states.push_back(s);
+    }
+    // Every spring with at least one of this rank's particles, carried by each of them that
+    // is this rank's (so that it goes wherever either goes).
+    std::vector<CarriedSpring> carried;
+    local_->visit_pair_histories([&](Index i, Index j, const History& h) {
+        if (i >= owned_ && j >= owned_) return;  // between two ghosts: another rank's
+        const Index a = global_id(i), b = global_id(j);
+        const auto pair = PairSpring<History>::of(a, b, h);
+        if (i < owned_) carried.push_back({a, false, pair});
+        if (j < owned_) carried.push_back({b, false, pair});
+    });
+    if constexpr (Sim::has_walls) {  // every wall contact is an owned particle's
+        local_->visit_wall_histories([&](Index i, Index w, const History& h) {
+            carried.push_back({global_id(i), true, {global_id(i), w, h}});
+        });
+        walls_ = local_->walls();
+    }
+    migrate(comm_, states, carried);
+    SpringsByPair<History> by_pair, by_wall;
+    for (const CarriedSpring& cs : carried)  // a pair's held twice: the first
+        (cs.wall ? by_wall : by_pair).emplace(std::pair{cs.pair.a, cs.pair.b}, cs.pair.h);
+    distribute(states, by_pair, by_wall, Stage::within_step);
+    ++redistributions_;
+}
+
+template <class Sim>
+inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs, Stage stage) {
+    std::vector<ParticleRecord> owned;
+    std::vector<const State*> own_states;
+    for (const State& s : all) {
+        if (!comm_.split().owns(vector_of_record<dim>(s.r.x))) continue;
+        owned.push_back(s.r);
+        own_states.push_back(&s);
+    }
+    // Within a step this rank's books go on in its new engine; at the start, a scene's that has run.
+    std::optional<OpenBooks> books = std::exchange(books_at_start_, std::nullopt);
+    if (local_) books = local_->open_books();
+    halo_.emplace(comm_, owned, width_);
+    local_.emplace(engine(box_, walls_));
+    global_.clear();
+    place_.clear();
+    for (const auto* set : std::array<const std::vector<ParticleRecord>*, 2>{&owned, &halo_->ghosts()})
+        for (const ParticleRecord& r : *set) {
+            const std::size_t i = local_->particles().add(vector_of_record<dim>(r.x), r.radius, r.mass, r.inertia);
+            write_motion(i, Motion<dim>::of(r));
+            global_.push_back(r.id);
+            place_.push_back(r.place);
+        }
+    owned_ = owned.size();
+    local_->set_time_step(dt_);
+    local_->set_skin(skin_);
+    local_->set_auto_sort(false);     // the first owned_ particles stay the owned ones
+    local_->set_search_window(comm_.split().search_window(width_, skin_));
+    local_->set_first_ghost(owned_, comm_.rank() == 0);  // the walls' own books on rank 0
+    local_->set_track_energy(track_);
+    local_->set_threads(threads_);
+    serial_pair_order();
+    local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
+    local_->prepare();                 // the lists (and forces, replaced below unless fresh)
+    if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
+    rebuilds_ = local_->neighbor_rebuilds();
+    ghosts_current_ = true;
+    if (stage == Stage::fresh) {
+        if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+        return;
+    }
+    if constexpr (Sim::has_walls)
+        for (std::size_t k = 0; k < walls_.size(); ++k) local_->walls()[k].force = walls_[k].force;
+    auto& p = local_->particles();
+    for (std::size_t i = 0; i < owned_; ++i) {
+        for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
+        p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
+    }
+    restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
+    if constexpr (Sim::has_walls) restore_wall_springs(*local_, wall_springs, [&](Index i) { return global_id(i); });
+}
+
+}  // namespace micromacro::mpi
