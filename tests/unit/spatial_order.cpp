@@ -10,9 +10,13 @@
 
 #include <algorithm>
 #include <cstdint>
+#include <filesystem>
+#include <string>
 #include <map>
 #include <numeric>
 #include <random>
+
+#include <micromacro/io/state.hpp>
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
@@ -215,7 +219,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(the_engine_sorts_on_its_own_and_ids_follow, D, Dim
 // turned as there: 500 steps later every position, velocity, angular velocity, force and torque
 // is the unsorted run's to the bit, with fused multiply-adds too (each contact's arithmetic runs
 // as in the unsorted scene). How the ranks of a distributed run sum in the serial order. Keys
-// for another particle count or one key twice are refused.
+// for another particle count or one key twice are refused, and so is saving the scene's state.
 BOOST_AUTO_TEST_CASE_TEMPLATE(pairs_in_the_order_of_keys_sum_as_that_numbering_does, D, Dims) {
     constexpr int dim = D::value;
     auto kept = shaken_packing<dim>();
@@ -243,6 +247,11 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(pairs_in_the_order_of_keys_sum_as_that_numbering_d
     BOOST_TEST(differ_plain > 0u);  // the test sees the order of the sums
     BOOST_TEST(sorted.contact_count() == kept.contact_count());
 
+    // Keys are not part of a state, whose pairs go in index order: a scene with keys saves none.
+    const auto file = std::filesystem::temp_directory_path() / ("keyed_" + std::to_string(dim) + "d.state");
+    std::filesystem::remove(file);
+    mmtest::expect_error([&] { mm::io::save_state(sorted, file); }, {"set_pair_order({})", "no state to save"});
+    BOOST_TEST(!std::filesystem::exists(file));
     mmtest::expect_error([&] { sorted.set_pair_order({1, 2, 3}); }, {"3 keys", "2000 particles"});
     std::vector<std::uint64_t> twice(order.size());
     std::iota(twice.begin(), twice.end(), std::uint64_t{0});

@@ -255,7 +255,7 @@ public:
         const auto [walls, wall_contacts] = wall_parts();
         detail::visit_contacts<rotation>(particle_input(), domain_, law_, pairs_, walls, wall_contacts, f);
     }
-    /// Calls f(i, j, history) for every candidate pair (i < j) of the list, and f(i, wall, history)
+    /// Calls f(i, j, history) for every candidate pair (i before j: set_pair_order) and f(i, wall, history)
     /// for every candidate wall contact, the history as the last evaluation left it and open to
     /// change: how a distributed run hands springs between ranks.
     template <class F> void visit_pair_histories(F&& f) requires Law::has_history { pairs_.visit(f); }

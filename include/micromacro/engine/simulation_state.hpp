@@ -10,6 +10,10 @@ namespace micromacro {
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <class Archive>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::serialize(Archive& ar) -> void {
+    // A state holds its pairs in index order (check_restored refuses others), and keys are not saved.
+    if (!pair_key_.empty())
+        detail::throw_input_error("a scene whose pairs go in the order of keys (set_pair_order) has no state to save or restore; "
+                                  "call set_pair_order({}) first (a distributed run saves through mpi::whole_scene)");
     ar.raw(law_);  // plain parameter structs
     domain_.serialize(ar);
     if constexpr (has_walls) walls_.serialize(ar);

@@ -157,7 +157,7 @@ public:
     /// now), in the whole scene's box: what mpi::whole_scene fills.
     Sim empty_scene() const { return engine(box_, local_->walls()); }
     /// Threads for each rank's engine (BasicSimulation::set_threads): ranks x threads the cores.
-    /// With one, each rank sums a particle's forces in the order of the partners' global ids (see
+    /// With one, each rank sums a particle's forces in the serial run's order (see
     /// serial_pair_order); with more, in the thread shares' order.
     void set_threads(int threads) {
         local_->set_threads(threads), threads_ = threads;
