@@ -48,7 +48,8 @@ inline void DistributedRun<Sim>::redistribute() {
 }
 
 template <class Sim>
-inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs, Stage stage) {
+inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const SpringsByPair<History>& springs,
+                                            const SpringsByPair<History>& wall_springs, Stage stage) {
     std::vector<ParticleRecord> owned;
     std::vector<const State*> own_states;
     for (const State& s : all) {
