@@ -93,15 +93,13 @@ public:
 
     void set_time_step(double dt) {
         detail::require_positive(dt, "time step dt", "choose dt = t_c / 50 (see contact_duration)");
-        dt_ = dt;
-        prepared_ = false;
+        dt_ = dt, prepared_ = false;
     }
     double time_step() const { return dt_; }
     /// Skin of the neighbour list: pairs closer than this (surface to surface) are candidates.
     void set_skin(double skin) {
         detail::require_positive(skin, "neighbour skin", "the default is a fifth of the mean radius");
-        skin_ = skin;
-        prepared_ = false;
+        skin_ = skin, prepared_ = false;
     }
     double skin() const { return skin_; }
     /// Lets prepare() accept dt above the stability limit (a blow-up is reported, not refused).
@@ -137,13 +135,12 @@ public:
     /// see errors before running. The energy books open at the first call and are kept after.
     void prepare();
 
-    /// Renumbers the particles in row order (see spatial_order) so that particles
-    /// close in space are close in memory and the pair loop reuses the cache lines it loads.
-    /// Every per-particle array (the ids too), the contact lists with their histories and the
-    /// neighbour-list references follow, so the physics is unchanged; later steps differ by
-    /// round-off only (forces are summed in another order). Returns the permutation: the
-    /// particle now at index k was particle order[k]. The engine calls it on its own (see
-    /// set_auto_sort).
+    /// Renumbers the particles in row order (see spatial_order) so that particles close in space
+    /// are close in memory and the pair loop reuses the cache lines it loads. Every per-particle
+    /// array (the ids too), the contact lists with their histories and the neighbour-list
+    /// references follow, so the physics is unchanged; later steps differ by round-off only
+    /// (forces are summed in another order). Returns the permutation: the particle now at index k
+    /// was particle order[k]. The engine calls it on its own (see set_auto_sort).
     std::vector<Index> sort_spatially(double cell = 0.0);
     /// Renumbers the particles in the caller's order: the particle now at index k was particle
     /// order[k] (a permutation of 0..n-1); everything follows as in sort_spatially.
@@ -165,18 +162,21 @@ public:
     /// (mpi::DistributedRun): the lists leave out pairs of two ghosts and a ghost's wall contacts
     /// (their forces are the owners'), the body forces act on the own particles only, and the
     /// energies and books count half of each pair with a ghost. `counts_walls`: whether the walls'
-    /// own energy and books (their kinetic energy, a stress-controlled wall's pressure work and
-    /// damper) are this process's to count. Default: no ghosts, the walls counted.
+    /// own energy and books (kinetic energy, a stress-controlled wall's pressure work and damper)
+    /// are this process's to count. Default: no ghosts, the walls counted.
     void set_first_ghost(std::size_t first, bool counts_walls = true) { first_ghost_ = first, counts_walls_ = counts_walls; }
     /// The neighbour search bins positions in `window` along the periodic axes it unwraps
     /// (neighbors/search_window.hpp; mpi::DistributedRun, whose ranks hold slabs of the box).
     void set_search_window(const SearchWindow<dim>& window) { window_ = window; }
-    /// The candidate pairs in the order of `key`, one distinct key per particle, instead of the
-    /// particles' indices: each pair's i has the smaller key, the pairs go by i's key and then
-    /// j's, and each particle's forces are summed as with the particles numbered in key order
-    /// (mpi::DistributedRun's ranks sum in the serial run's order so). The pair loop then runs
-    /// on one thread. Empty (the default): the index order. Not part of the saved state.
+    /// The candidate pairs in the order of `key` (distinct, one per particle), not of the indices:
+    /// each pair's i has the smaller key, the pairs go by i's key, then j's, and each particle's
+    /// forces are summed as with the particles numbered in key order (how mpi::DistributedRun's
+    /// ranks sum in the serial order). On one thread then. Empty (default): index order. Not saved.
     void set_pair_order(std::vector<std::uint64_t> key);
+    /// Whether each force evaluation keeps every wall contact's part of its wall's force in
+    /// wall_terms (mpi::DistributedRun adds the ranks' in the serial order). Default: off.
+    void keep_wall_terms(bool on) requires has_walls { keeps_wall_terms_ = on; }
+    const std::vector<detail::WallTerm<dim>>& wall_terms() const requires has_walls { return wall_terms_; }
 
     /// The spacing of representable coordinates at the farthest particle or wall from the origin
     /// (one unit in the last place): overlaps are differences of coordinates, so this is the
@@ -356,6 +356,7 @@ private:
     ParticleSet particles_;
     ContactList<History> pairs_;
     [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
+    [[no_unique_address]] std::conditional_t<has_walls, std::vector<detail::WallTerm<dim>>, NoHistory> wall_terms_;
     std::vector<SV> reference_;
     int threads_ = 1;
     detail::ThreadedPairLoop<dim, Real, rotation> pair_loop_;
@@ -375,7 +376,7 @@ private:
     double sorted_gap_ = 0.0;
     bool auto_sort_ = true;
     std::size_t first_ghost_ = std::numeric_limits<std::size_t>::max();
-    bool counts_walls_ = true;
+    bool counts_walls_ = true, keeps_wall_terms_ = false;
     SearchWindow<dim> window_;
     std::vector<std::uint64_t> pair_key_;  // set_pair_order's keys by particle index; empty: index order
     std::vector<SV> window_x_;  // the positions as the search sees them, where window_ unwraps an axis

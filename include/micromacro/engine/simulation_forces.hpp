@@ -64,8 +64,13 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if constexpr (has_walls) {
         SA* torque = nullptr;
         if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
-        detail::wall_forces<track, rotation>(contact_input(wall_contacts_), wall_contacts_.size(), walls_, law_, dt_, f.data(),
-                                             torque, step_books_);
+        const auto in = contact_input(wall_contacts_);
+        if (keeps_wall_terms_)
+            detail::wall_forces<track, rotation, true>(in, wall_contacts_.size(), walls_, law_, dt_, f.data(), torque, step_books_,
+                                                       wall_terms_);
+        else
+            detail::wall_forces<track, rotation, false>(in, wall_contacts_.size(), walls_, law_, dt_, f.data(), torque, step_books_,
+                                                        wall_terms_);
     }
     std::apply([&](const auto&... bf) { (apply_body_force<track>(bf), ...); }, body_forces_);
     if constexpr (track) close_step_books();

@@ -17,9 +17,9 @@
 // go to the neighbouring ranks only, axis by axis (as in LAMMPS's Comm::exchange).
 //
 // Walls: every rank holds every wall, and a particle's wall contacts are its owner's (a ghost
-// has none). After each force evaluation the walls' forces are summed over the ranks, each
-// rank's share in rank order on every rank, so that the walls move by the same numbers
-// everywhere; a wall contact's spring travels with its particle. Along an axis the scene leaves
+// has none). After each force evaluation the walls' forces are summed over the ranks, on every
+// rank in the serial run's order (set_serial_wall_sums), so that the walls move by the same
+// numbers everywhere, and by the serial run's; a wall contact's spring travels with its particle. Along an axis the scene leaves
 // unbounded (walls alone bound the biaxial test's box) the split is the particles' extent, taken
 // again at every redistribution, so that the slabs keep equal shares of a box the walls deform.
 //
@@ -178,6 +178,17 @@ public:
         std::get<F>(forces_) = force;
         local_->template body_force<F>() = force;
     }
+    /// On (the default), the walls' forces are summed in the serial run's order: each wall
+    /// contact's part goes to every rank, which adds them in the order of their particles' places
+    /// in the serial numbering, so any rank count moves the walls by the serial run's numbers.
+    /// Off, each rank's sum is added in rank order: round-off differences, but no message that
+    /// grows with the walls' contacts (for large walled scenes on many ranks; docs/mpi.md).
+    /// Every rank must make the same call.
+    void set_serial_wall_sums(bool on) {
+        serial_wall_sums_ = on;
+        if constexpr (Sim::has_walls)
+            if (local_) local_->keep_wall_terms(on);
+    }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
     /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
@@ -205,7 +216,7 @@ public:
     }
     void compute_forces() {
         local_->compute_forces();
-        if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+        sum_walls();
     }
     void kick_force_change(double h) {
         local_->kick_force_change(h);
@@ -262,7 +273,7 @@ private:
         law_changed_ = false;
         refresh_ghosts();  // the evaluation reads the ghosts' velocities
         local_->prepare();
-        if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+        sum_walls();
     }
 
     /// After a particle pass: the ghosts from their owners' present state, or, once a particle
@@ -305,6 +316,16 @@ private:
     void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs,
                     Stage stage);
 
+    /// The walls' forces summed over the ranks as set_serial_wall_sums says. A collective call.
+    void sum_walls() {
+        if constexpr (Sim::has_walls) {
+            if (serial_wall_sums_)
+                sum_wall_forces(local_->walls(), local_->wall_terms(), place_, comm_);
+            else
+                sum_wall_forces(local_->walls(), comm_);
+        }
+    }
+
     /// On one thread, the engine's pairs in the order of their particles' places in the serial
     /// numbering (the whole scene's, or the shares' in rank order): each particle's forces are
     /// then summed as in the serial run, whatever the split (BasicSimulation::set_pair_order).
@@ -326,6 +347,7 @@ private:
     int threads_ = 1;
     bool ghosts_current_ = true;  // false from a closing kick to the next refresh
     bool law_changed_ = false;    // set_law since the last step
+    bool serial_wall_sums_ = true;
     double skin_, dt_, width_ = 0.0, time_;
     std::size_t steps_;
     bool track_;                               // energy books, as the scene's

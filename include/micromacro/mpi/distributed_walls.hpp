@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cstddef>
+#include <cstdint>
 #include <limits>
 #include <utility>
 #include <variant>
@@ -15,6 +16,8 @@
 #include "micromacro/core/dim_traits.hpp"
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/error.hpp"
+#include "micromacro/core/index.hpp"
+#include "micromacro/engine/wall_contacts.hpp"
 #include "micromacro/mpi/communicator.hpp"
 #include "micromacro/walls/motion.hpp"
 
@@ -111,6 +114,43 @@ void sum_wall_forces(Walls& walls, const CartesianComm<dim>& comm) {
         for (int r = 0; r < comm.size(); ++r)
             for (int a = 0; a < dim; ++a) f[a] += all[std::size_t(r) * n + k * dim + a];
         walls[k].force = f;
+    }
+}
+
+/// The walls' forces as the serial run sums them, on any number of ranks: every rank's wall
+/// contacts' parts (BasicSimulation::wall_terms, `place`: the serial place of each local
+/// particle) go to every rank, which subtracts them from zero in the order of their particles'
+/// places, as the serial wall loop does in the order of the particles. Every rank receives
+/// every wall contact, a volume that does not shrink as ranks are added (docs/mpi.md). A
+/// collective call.
+template <int dim, class Walls>
+void sum_wall_forces(Walls& walls, const std::vector<micromacro::detail::WallTerm<dim>>& terms, const std::vector<Index>& place,
+                     const CartesianComm<dim>& comm) {
+    struct Term {
+        std::uint64_t key;  // the particle's serial place, then the wall
+        std::array<double, dim> force;
+    };
+    std::vector<Term> mine;
+    mine.reserve(terms.size());
+    for (const auto& t : terms) {
+        Term m{(std::uint64_t(place[t.particle]) << 32) | t.wall, {}};
+        for (int a = 0; a < dim; ++a) m.force[a] = t.force[a];
+        mine.push_back(m);
+    }
+    const int ranks = comm.size();
+    const int bytes = static_cast<int>(mine.size() * sizeof(Term));
+    std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks) + 1, 0);
+    check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.comm()), "MPI_Allgather (wall terms)");
+    for (int r = 0; r < ranks; ++r) offsets[std::size_t(r) + 1] = offsets[std::size_t(r)] + counts[std::size_t(r)];
+    std::vector<Term> all(static_cast<std::size_t>(offsets.back()) / sizeof(Term));
+    check(MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm.comm()),
+          "MPI_Allgatherv (wall terms)");
+    std::sort(all.begin(), all.end(), [](const Term& a, const Term& b) { return a.key < b.key; });
+    for (auto& wall : walls) wall.force = Vec<dim>::Zero();
+    for (const Term& t : all) {
+        Vec<dim> f;
+        for (int a = 0; a < dim; ++a) f[a] = t.force[a];
+        walls[t.key & 0xffffffffu].force -= f;
     }
 }
 

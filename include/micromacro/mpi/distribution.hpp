@@ -80,13 +80,14 @@ inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const
     local_->set_track_energy(track_);
     local_->set_threads(threads_);
     serial_pair_order();
+    if constexpr (Sim::has_walls) local_->keep_wall_terms(serial_wall_sums_);
     local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
     local_->prepare();                 // the lists (and forces, replaced below unless fresh)
     if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
     rebuilds_ = local_->neighbor_rebuilds();
     ghosts_current_ = true;
     if (stage == Stage::fresh) {
-        if constexpr (Sim::has_walls) sum_wall_forces(local_->walls(), comm_);
+        sum_walls();
         return;
     }
     if constexpr (Sim::has_walls)
