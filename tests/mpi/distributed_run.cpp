@@ -7,7 +7,7 @@
 // new ranks every few steps. In 2D and 3D. Contacts press, turn and slide: the tangential springs
 // carry the history the comparison checks. One rank gives the serial run's bits. The same in a
 // box of walls, one moved by Eq. 17 and one by Eq. 18, whose forces are summed over the ranks
-// (in rank order: to round-off): the walls move as in the serial run. Where no particle has more
+// in the serial order (the serial bits; in rank order, round-off). Where no particle has more
 // than two contacts (the order of a sum of two does not matter) any number of ranks gives the
 // serial bits with threads too, pairs across the periodic boundary between ranks and wraps included.
 #define BOOST_TEST_MODULE mpi_distributed_run

@@ -173,7 +173,7 @@ public:
     /// forces are summed as with the particles numbered in key order (how mpi::DistributedRun's
     /// ranks sum in the serial order). On one thread then. Empty (default): index order. Not saved.
     void set_pair_order(std::vector<std::uint64_t> key);
-    /// Whether each force evaluation keeps every wall contact's part of its wall's force in
+    /// Whether each force evaluation keeps every wall candidate's part of its wall's force in
     /// wall_terms (mpi::DistributedRun adds the ranks' in the serial order). Default: off.
     void keep_wall_terms(bool on) requires has_walls { keeps_wall_terms_ = on; }
     const std::vector<detail::WallTerm<dim>>& wall_terms() const requires has_walls { return wall_terms_; }

@@ -47,8 +47,8 @@ MICROMACRO_INLINE ContactKinematics<dim> wall_kinematics(const ContactLoopInput<
             in.inverse_mass[i], 0.0, dt};
 }
 
-/// One wall contact's part of its wall's force: what the particle received (the wall takes the
-/// opposite), in the order the wall loop adds them.
+/// One wall candidate's part of its wall's force: what the particle received (the wall takes the
+/// opposite; zero where the candidate does not touch), in the wall loop's order.
 template <int dim>
 struct WallTerm {
     Index particle;
@@ -59,8 +59,8 @@ struct WallTerm {
 /// The wall loop over the wall candidates of `in`: the law on each touching one (the normal
 /// part only on a frictionless wall), what the law adds for one that opened (see
 /// ContactLawIn::opening_force), and each wall's force, the opposite of what its particles
-/// receive. With `keep_terms`, each contact's part is appended to `terms` as well (a loop of its
-/// own: the serial engine's stays as it was).
+/// receive. With `keep_terms`, `terms` gets each candidate's part as well (a loop of its own: the
+/// serial engine's stays as it was).
 template <bool track, bool rotation, bool keep_terms, int dim, class Real, class Law, class History, class WallSet>
 void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t count, WallSet& walls, const Law& law, double dt,
                  Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque, EnergyBooks& books,
@@ -69,9 +69,10 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
     using A = Angular<dim>;
     using T = DimTraits<dim>;
     for (auto& wall : walls) wall.force = V::Zero();
-    if constexpr (keep_terms) terms.clear();
+    if constexpr (keep_terms) terms.resize(count);
     for (std::size_t c = 0; c < count; ++c) {
         const auto [i, w] = in.pair[c];
+        if constexpr (keep_terms) terms[c] = {i, w, V::Zero()};
         auto& wall = walls[w];
         const WallPoint<dim> point = wall.nearest(convert<double>(in.x[i]));
         const double a = in.r[i];
@@ -82,7 +83,7 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
                     const V force = law.opening_force(wall_kinematics<rotation>(in, i, wall, point, dt), h);
                     f[i] += convert<Real>(force);
                     wall.force -= force;
-                    if constexpr (keep_terms) terms.push_back({i, w, force});
+                    if constexpr (keep_terms) terms[c].force = force;
                     if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(point.normal, force)));
                 }
                 h = History{};
@@ -97,7 +98,7 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
         const auto resp = respond<track>(law, wall_kinematics<rotation>(in, i, wall, point, dt), h, books, wall.frictionless);
         f[i] += convert<Real>(resp.force);
         wall.force -= resp.force;
-        if constexpr (keep_terms) terms.push_back({i, w, resp.force});
+        if constexpr (keep_terms) terms[c].force = resp.force;
         if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(point.normal, resp.tangential)));
     }
 }

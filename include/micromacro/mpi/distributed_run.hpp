@@ -186,8 +186,10 @@ public:
     /// Every rank must make the same call.
     void set_serial_wall_sums(bool on) {
         serial_wall_sums_ = on;
-        if constexpr (Sim::has_walls)
-            if (local_) local_->keep_wall_terms(on);
+        if constexpr (Sim::has_walls) {
+            local_->keep_wall_terms(on);
+            wall_sum_.rearrange();  // from the next evaluation's parts
+        }
     }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
@@ -273,6 +275,7 @@ private:
         law_changed_ = false;
         refresh_ghosts();  // the evaluation reads the ghosts' velocities
         local_->prepare();
+        arrange_walls();
         sum_walls();
     }
 
@@ -316,11 +319,15 @@ private:
     void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs,
                     Stage stage);
 
+    /// After the engine's prepare(), which builds its lists: the walls' serial sums arranged anew.
+    void arrange_walls() {
+        if constexpr (Sim::has_walls) wall_sum_.rearrange();
+    }
     /// The walls' forces summed over the ranks as set_serial_wall_sums says. A collective call.
     void sum_walls() {
         if constexpr (Sim::has_walls) {
             if (serial_wall_sums_)
-                sum_wall_forces(local_->walls(), local_->wall_terms(), place_, comm_);
+                wall_sum_.sum(local_->walls(), local_->wall_terms(), place_, comm_);
             else
                 sum_wall_forces(local_->walls(), comm_);
         }
@@ -348,6 +355,7 @@ private:
     bool ghosts_current_ = true;  // false from a closing kick to the next refresh
     bool law_changed_ = false;    // set_law since the last step
     bool serial_wall_sums_ = true;
+    [[no_unique_address]] std::conditional_t<Sim::has_walls, SerialWallSum<dim>, std::tuple<>> wall_sum_;
     double skin_, dt_, width_ = 0.0, time_;
     std::size_t steps_;
     bool track_;                               // energy books, as the scene's

@@ -118,40 +118,89 @@ void sum_wall_forces(Walls& walls, const CartesianComm<dim>& comm) {
 }
 
 /// The walls' forces as the serial run sums them, on any number of ranks: every rank's wall
-/// contacts' parts (BasicSimulation::wall_terms, `place`: the serial place of each local
-/// particle) go to every rank, which subtracts them from zero in the order of their particles'
-/// places, as the serial wall loop does in the order of the particles. Every rank receives
-/// every wall contact, a volume that does not shrink as ranks are added (docs/mpi.md). A
-/// collective call.
-template <int dim, class Walls>
-void sum_wall_forces(Walls& walls, const std::vector<micromacro::detail::WallTerm<dim>>& terms, const std::vector<Index>& place,
-                     const CartesianComm<dim>& comm) {
-    struct Term {
-        std::uint64_t key;  // the particle's serial place, then the wall
-        std::array<double, dim> force;
-    };
-    std::vector<Term> mine;
-    mine.reserve(terms.size());
-    for (const auto& t : terms) {
-        Term m{(std::uint64_t(place[t.particle]) << 32) | t.wall, {}};
-        for (int a = 0; a < dim; ++a) m.force[a] = t.force[a];
-        mine.push_back(m);
+/// candidates' parts (BasicSimulation::wall_terms) go to every rank, which subtracts them from
+/// zero in the order of their particles' places in the serial numbering, as the serial wall loop
+/// does in the order of the particles (a candidate that does not touch adds a zero, which changes
+/// no sum). The candidates change only when the engines rebuild their lists, so their order over
+/// the ranks is arranged at the first sum after a rebuild (the engines' prepare(); `rearrange`)
+/// and each evaluation sends only the forces: one MPI_Allgather of dim numbers per candidate,
+/// which every rank receives, a volume that does not shrink as ranks are added (docs/mpi.md).
+template <int dim>
+class SerialWallSum {
+public:
+    using Terms = std::vector<micromacro::detail::WallTerm<dim>>;
+
+    /// The engines' lists were built again: the next sum arranges the candidates anew.
+    void rearrange() { arranged_ = false; }
+
+    /// The walls' forces from this evaluation's parts (`place`: the serial place of each local
+    /// particle). A collective call.
+    template <class Walls>
+    void sum(Walls& walls, const Terms& terms, const std::vector<Index>& place, const CartesianComm<dim>& comm) {
+        if (!arranged_) arrange(terms, place, comm);
+        // Each rank's parts, then its count of candidates, which every rank checks against the
+        // arrangement's (so that all ranks stop together if an engine rebuilt its lists unseen).
+        const std::size_t stride = width_ * dim + 1;
+        mine_.assign(stride, 0.0);
+        for (std::size_t c = 0; c < std::min(terms.size(), width_); ++c)
+            for (int a = 0; a < dim; ++a) mine_[c * dim + a] = terms[c].force[a];
+        mine_.back() = double(terms.size());
+        all_.resize(stride * static_cast<std::size_t>(comm.size()));
+        check(MPI_Allgather(mine_.data(), static_cast<int>(stride), MPI_DOUBLE, all_.data(), static_cast<int>(stride), MPI_DOUBLE,
+                            comm.comm()),
+              "MPI_Allgather (wall forces)");
+        for (int r = 0; r < comm.size(); ++r)
+            if (all_[std::size_t(r) * stride + stride - 1] != double(counts_[std::size_t(r)]))
+                micromacro::detail::throw_input_error("SerialWallSum: rank ", r, " has ", all_[std::size_t(r) * stride + stride - 1],
+                                                      " wall candidates, arranged for ", counts_[std::size_t(r)],
+                                                      " (its engine rebuilt its lists without rearrange())");
+        for (auto& wall : walls) wall.force = Vec<dim>::Zero();
+        for (std::size_t k = 0; k < order_.size(); ++k) {
+            Vec<dim> f;
+            for (int a = 0; a < dim; ++a) f[a] = all_[order_[k] + std::size_t(a)];
+            walls[wall_[k]].force -= f;
+        }
     }
-    const int ranks = comm.size();
-    const int bytes = static_cast<int>(mine.size() * sizeof(Term));
-    std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks) + 1, 0);
-    check(MPI_Allgather(&bytes, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.comm()), "MPI_Allgather (wall terms)");
-    for (int r = 0; r < ranks; ++r) offsets[std::size_t(r) + 1] = offsets[std::size_t(r)] + counts[std::size_t(r)];
-    std::vector<Term> all(static_cast<std::size_t>(offsets.back()) / sizeof(Term));
-    check(MPI_Allgatherv(mine.data(), bytes, MPI_BYTE, all.data(), counts.data(), offsets.data(), MPI_BYTE, comm.comm()),
-          "MPI_Allgatherv (wall terms)");
-    std::sort(all.begin(), all.end(), [](const Term& a, const Term& b) { return a.key < b.key; });
-    for (auto& wall : walls) wall.force = Vec<dim>::Zero();
-    for (const Term& t : all) {
-        Vec<dim> f;
-        for (int a = 0; a < dim; ++a) f[a] = t.force[a];
-        walls[t.key & 0xffffffffu].force -= f;
+
+private:
+    /// The order of every rank's candidates, by key: the particle's place, then the wall.
+    void arrange(const Terms& terms, const std::vector<Index>& place, const CartesianComm<dim>& comm) {
+        std::vector<std::uint64_t> mine(terms.size());
+        for (std::size_t c = 0; c < terms.size(); ++c) mine[c] = (std::uint64_t(place[terms[c].particle]) << 32) | terms[c].wall;
+        const int ranks = comm.size(), count = static_cast<int>(mine.size());
+        std::vector<int> counts(static_cast<std::size_t>(ranks)), offsets(static_cast<std::size_t>(ranks), 0);
+        check(MPI_Allgather(&count, 1, MPI_INT, counts.data(), 1, MPI_INT, comm.comm()), "MPI_Allgather (wall candidates)");
+        for (int r = 1; r < ranks; ++r) offsets[std::size_t(r)] = offsets[std::size_t(r) - 1] + counts[std::size_t(r) - 1];
+        std::vector<std::uint64_t> keys(static_cast<std::size_t>(offsets.back() + counts.back()));
+        check(MPI_Allgatherv(mine.data(), count, MPI_UINT64_T, keys.data(), counts.data(), offsets.data(), MPI_UINT64_T, comm.comm()),
+              "MPI_Allgatherv (wall candidates)");
+        // Each rank's parts padded to the largest count, so that an evaluation needs one
+        // MPI_Allgather, as the sums in rank order do: candidate c of rank r at r * stride + c dim.
+        width_ = static_cast<std::size_t>(*std::max_element(counts.begin(), counts.end()));
+        const std::size_t stride = width_ * dim + 1;
+        std::vector<std::pair<std::uint64_t, std::size_t>> sorted(keys.size());  // key, where its force goes
+        for (int r = 0; r < ranks; ++r)
+            for (int c = 0; c < counts[std::size_t(r)]; ++c) {
+                const std::size_t k = std::size_t(offsets[std::size_t(r)] + c);
+                sorted[k] = {keys[k], std::size_t(r) * stride + std::size_t(c) * dim};
+            }
+        std::sort(sorted.begin(), sorted.end());
+        order_.resize(sorted.size());
+        wall_.resize(sorted.size());
+        for (std::size_t k = 0; k < sorted.size(); ++k) {
+            order_[k] = sorted[k].second;
+            wall_[k] = static_cast<Index>(sorted[k].first & 0xffffffffu);
+        }
+        counts_ = std::move(counts);
+        arranged_ = true;
     }
-}
+
+    std::vector<std::size_t> order_;  // the candidates over the ranks by key: where each one's force sits
+    std::vector<Index> wall_;         // the wall of each, in that order
+    std::vector<int> counts_;         // each rank's candidates
+    std::vector<double> mine_, all_;  // this rank's parts padded to width_ and its count, and every rank's
+    std::size_t width_ = 0;
+    bool arranged_ = false;
+};
 
 }  // namespace micromacro::mpi
