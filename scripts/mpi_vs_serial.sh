@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The biaxial program over MPI ranks against the serial one, on whole runs: for each seed the
 # serial program prepares and loads a packing, and biaxial_mpi loads the same prepared packing on
-# RANKS ranks. Round-off differences grow by chaos over the loading, so the two runs' curves part;
-# the table compares each key figure's serial-vs-ranks difference with its seed-to-seed scatter
+# RANKS ranks. Where the ranks keep the serial bits (docs/mpi.md) every difference is 0; where they
+# agree to round-off only, it grows by chaos over the loading and the two runs' curves part. The
+# table compares each key figure's serial-vs-ranks difference with its seed-to-seed scatter
 # (the standard deviation over the seeds of the serial runs), and gives the mean signed difference
 # with its standard error, which a bias of the ranks would move off zero. Prints Markdown
 # (docs/mpi.md).
