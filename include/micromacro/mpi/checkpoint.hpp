@@ -44,11 +44,13 @@ std::vector<T> all_of(MPI_Comm comm, const std::vector<T>& mine) {
 }  // namespace checkpoint_detail
 
 /// The whole scene of `run` as one serial scene, the same on every rank (a collective call):
-/// particles numbered by their global ids (the numbering of the scene the run started from),
-/// their positions (in the box), velocities, angular velocities and the last forces and torques,
-/// each pair's and wall contact's spring, the walls (every rank's copy is the same) and body
-/// forces, the run's clock, time step and skin, and the energy books added over the ranks
-/// (mpi::open_books). The engine's own sorting is off, so that indices stay the global ids.
+/// particles numbered in the serial order (DistributedRun::place: as the scene the run started
+/// from, which a spatial sort may have numbered apart from its ids, or the shares in rank order)
+/// with their global ids, their positions (in the box), velocities, angular velocities and the
+/// last forces and torques, each pair's and wall contact's spring, the walls (every rank's copy
+/// is the same) and body forces, the run's clock, time step and skin, and the energy books added
+/// over the ranks (mpi::open_books). So the serial engine goes on from it as from the scene the
+/// run started from, summing in its order. The engine's own sorting is off.
 template <class Sim>
 Sim whole_scene(const DistributedRun<Sim>& run) {
     constexpr int dim = Sim::dimension;
@@ -57,7 +59,7 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     const auto& p = local.particles();
     std::vector<checkpoint_detail::Particle> mine;
     for (std::size_t i = 0; i < run.owned(); ++i)
-        mine.push_back({record_of(p, i, run.global_id(i)), record_vector<dim>(convert<double>(p.force()[i])),
+        mine.push_back({record_of(p, i, run.global_id(i), run.place(i)), record_vector<dim>(convert<double>(p.force()[i])),
                         record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]))});
     // Each pair's spring once: from the rank that owns its partner of smaller global id.
     std::vector<PairSpring<History>> springs;
@@ -102,6 +104,13 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
         for (int a = 0; a < dim; ++a) w.template get<field::Force>()[i][a] = by_id[i]->force[a];
         w.template get<field::Torque>()[i] = angular_of_record<dim>(by_id[i]->torque);
     }
+    // Built in the order of the global ids (the springs find their particles by them), then
+    // numbered in the serial order, the springs and lists following.
+    std::vector<Index> order(by_id.size());
+    for (const auto* q : by_id) order.at(q->r.place) = q->r.id;
+    bool identity = true;
+    for (std::size_t k = 0; k < order.size(); ++k) identity = identity && order[k] == k;
+    if (!identity) whole.renumber(order);
     whole.set_clock(run.time(), run.steps_done());
     whole.continue_books(open_books(run));
     return whole;

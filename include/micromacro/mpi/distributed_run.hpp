@@ -149,6 +149,9 @@ public:
     double skin() const { return skin_; }
     /// The global id of local particle i (the whole scene's particle id).
     Index global_id(std::size_t i) const { return global_[local_->particles().id(i)]; }
+    /// The place of local particle i in the serial numbering (the whole scene's index, or the
+    /// shares' in rank order).
+    Index place(std::size_t i) const { return place_[local_->particles().id(i)]; }
     /// The scene's clock (a rank's engine starts anew at every redistribution).
     double time() const { return time_; }
     std::size_t steps_done() const { return steps_; }
