@@ -136,9 +136,9 @@ std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::
         // Round-off: the serial run numbered backwards differs by up to 4.2e-12 after 200 steps,
         // runs on 2-4 ranks in a box of walls whose forces are summed in rank order by up to
         // 3e-13, with threads within ranks (other sums) by up to 1.7e-11 (the messages above,
-        // --log_level=message). A rank that missed a
-        // contact or a spring would be off by the contact's share of the force, many orders
-        // more. One rank runs the serial engine on the serial box: the same bits.
+        // --log_level=message). A rank that missed a contact or a spring would be off by the
+        // contact's share of the force, many orders more. One rank runs the serial engine on the
+        // serial box: the same bits.
         // (With threads the shares of the pair list follow its length, which the rebuilds set.)
         if (mmtest::world_size() == 1 && threads == 1)
             BOOST_TEST((dx == 0 && dv == 0 && dw == 0 && df == 0 && dt == 0), "one rank, step " << steps);

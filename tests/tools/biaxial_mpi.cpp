@@ -3,9 +3,10 @@
 // without fused multiply-adds (each rank sums in the serial order), so the walls' columns are the
 // serial ones and the averages, sums over the ranks, agree to round-off in every row; with fused
 // multiply-adds round-off is promised, which chaos would amplify (rows 0-5 compared there;
-// docs/mpi.md); the whole run keeps the physics (the side walls hold p); its VTK frames are pieces that a .pvtp summary joins; a run
-// killed on two ranks resumes on three, or serially, from its checkpoint, and the rows written
-// before the kill are those of an uninterrupted run. In 2D and 3D.
+// docs/mpi.md); the whole run keeps the physics (the side walls hold p); its VTK frames are
+// pieces that a .pvtp summary joins; a run killed on two ranks resumes on three, or serially,
+// from its checkpoint, and the rows written before the kill are those of an uninterrupted run.
+// In 2D and 3D.
 #define BOOST_TEST_MODULE tools_biaxial_mpi
 #include <boost/test/unit_test.hpp>
 
@@ -54,6 +55,18 @@ double largest_difference(const Series& a, const Series& b, std::size_t rows) {
     return worst;
 }
 
+// Without fused multiply-adds, where the ranks keep the serial bits: every row of `d` within
+// round-off of `s` (the averages are sums over the ranks) and the walls' columns to the bit.
+void check_serial_bits([[maybe_unused]] const Series& s, [[maybe_unused]] const Series& d, [[maybe_unused]] const std::string& run) {
+#ifndef MICROMACRO_FP_CONTRACT
+    const std::size_t rows = std::min(d.at("time").size(), s.at("time").size());
+    const double whole = largest_difference(s, d, rows);
+    BOOST_TEST(whole < 1e-12, run << ": the " << rows << " rows differ by " << whole);
+    for (const std::string wall : {"wall_1_lower", "wall_1_upper", "wall_2_lower", "wall_2_upper"})
+        BOOST_TEST((d.at(wall) == s.at(wall)), run << ": " << wall << ", the serial bits");
+#endif
+}
+
 // A prepared packing of the quick preset with fewer particles, made once per dimension.
 fs::path prepared(int dim) {
     const fs::path dir = work / ("prepared" + std::to_string(dim));
@@ -83,13 +96,7 @@ BOOST_AUTO_TEST_CASE(the_ranks_give_the_serial_rows) {
             BOOST_TEST(d.at("time").size() == s.at("time").size());
             const double difference = largest_difference(s, d, 6);
             BOOST_TEST(difference < 1e-9, dim << "D, " << count << " ranks: rows 0-5 differ by " << difference);
-#ifndef MICROMACRO_FP_CONTRACT
-            const std::size_t rows = std::min(d.at("time").size(), s.at("time").size());
-            const double whole = largest_difference(s, d, rows);
-            BOOST_TEST(whole < 1e-12, dim << "D, " << count << " ranks: the " << rows << " rows differ by " << whole);
-            for (const std::string wall : {"wall_1_lower", "wall_1_upper", "wall_2_lower", "wall_2_upper"})
-                BOOST_TEST((d.at(wall) == s.at(wall)), dim << "D, " << count << " ranks: " << wall << ", the serial bits");
-#endif
+            check_serial_bits(s, d, std::to_string(dim) + "D, " + std::to_string(count) + " ranks");
             // Chaos takes the rows apart later; the controlled side wall holds p at the end either way.
             const double p = dim == 2 ? 20.0 : 1e4;
             BOOST_TEST(std::abs(d.at("sigma_wall_11_upper").back() / p - 1.0) < 0.02);
@@ -101,9 +108,9 @@ BOOST_AUTO_TEST_CASE(the_ranks_give_the_serial_rows) {
 
 // A run from scratch, its preparation over the ranks too: without fused multiply-adds 1 and 2
 // ranks give the serial program's walls to the bit and its rows to round-off (the averages are
-// sums over the ranks), from the placement through the loading, and as many rows. The phases' switches gather the
-// whole scene in the serial numbering (mpi::whole_scene), which the preparation's spatial sort
-// made other than the ids' order.
+// sums over the ranks), from the placement through the loading, and as many rows. The phases'
+// switches gather the whole scene in the serial numbering (mpi::whole_scene), which the
+// preparation's spatial sort made other than the ids' order.
 BOOST_AUTO_TEST_CASE(a_run_from_scratch_gives_the_serial_rows) {
     const fs::path reference = prepared(2).parent_path();  // the serial program's whole run
     const Series s = series(reference);
@@ -113,14 +120,9 @@ BOOST_AUTO_TEST_CASE(a_run_from_scratch_gives_the_serial_rows) {
         BOOST_TEST_REQUIRE(r.status == 0, r.err);
         const Series d = series(dir);
         BOOST_TEST_REQUIRE(d.at("time").size() == s.at("time").size());
-#ifndef MICROMACRO_FP_CONTRACT
-        const double whole = largest_difference(s, d, s.at("time").size());
-        BOOST_TEST(whole < 1e-12, count << " ranks: the rows differ by " << whole);
-        for (const std::string wall : {"wall_1_lower", "wall_1_upper", "wall_2_lower", "wall_2_upper"})
-            BOOST_TEST((d.at(wall) == s.at(wall)), count << " ranks: " << wall << ", the serial bits");
-#endif
         // With fused multiply-adds only round-off is promised, and the preparation's stopping rule
-        // may then end a step apart: the rows are not compared there.
+        // may then end a step apart: the rows are compared without them only.
+        check_serial_bits(s, d, std::to_string(count) + " ranks from scratch");
     }
 }
 

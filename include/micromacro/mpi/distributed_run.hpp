@@ -19,9 +19,10 @@
 // Walls: every rank holds every wall, and a particle's wall contacts are its owner's (a ghost
 // has none). After each force evaluation the walls' forces are summed over the ranks, on every
 // rank in the serial run's order (set_serial_wall_sums), so that the walls move by the same
-// numbers everywhere, and by the serial run's; a wall contact's spring travels with its particle. Along an axis the scene leaves
-// unbounded (walls alone bound the biaxial test's box) the split is the particles' extent, taken
-// again at every redistribution, so that the slabs keep equal shares of a box the walls deform.
+// numbers everywhere, and by the serial run's; a wall contact's spring travels with its
+// particle. Along an axis the scene leaves unbounded (walls alone bound the biaxial test's box)
+// the split is the particles' extent, taken again at every redistribution, so that the slabs
+// keep equal shares of a box the walls deform.
 //
 // Energy books (with the scene's set_track_energy, on by default): each rank's engine books its
 // own particles' body forces and wall contacts, half of each pair with a ghost (the ghost's owner
@@ -278,7 +279,7 @@ private:
         law_changed_ = false;
         refresh_ghosts();  // the evaluation reads the ghosts' velocities
         local_->prepare();
-        arrange_walls();
+        rearrange_walls();
         sum_walls();
     }
 
@@ -322,8 +323,9 @@ private:
     void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs,
                     Stage stage);
 
-    /// After the engine's prepare(), which builds its lists: the walls' serial sums arranged anew.
-    void arrange_walls() {
+    /// After the engine's prepare(), which builds its lists: the walls' serial sums are arranged
+    /// anew at the next sum.
+    void rearrange_walls() {
         if constexpr (Sim::has_walls) wall_sum_.rearrange();
     }
     /// The walls' forces summed over the ranks as set_serial_wall_sums says. A collective call.

@@ -83,7 +83,7 @@ inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const
     if constexpr (Sim::has_walls) local_->keep_wall_terms(serial_wall_sums_);
     local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
     local_->prepare();                 // the lists (and forces, replaced below unless fresh)
-    arrange_walls();
+    rearrange_walls();
     if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
     rebuilds_ = local_->neighbor_rebuilds();
     ghosts_current_ = true;
