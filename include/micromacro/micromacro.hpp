@@ -19,6 +19,7 @@
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/brute_force.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
+#include "micromacro/neighbors/search_state.hpp"
 #include "micromacro/neighbors/spatial_order.hpp"
 #include "micromacro/walls/motion.hpp"
 #include "micromacro/walls/shape.hpp"

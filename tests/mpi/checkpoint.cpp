@@ -41,8 +41,9 @@ double from_serial(const Sim& serial, const Sim& other) {
 }
 }  // namespace
 
+// Returns how often the serial engine sorted its particles between the checkpoint and the end.
 template <class Sim>
-void check_restarts(Sim serial, const std::string& name) {
+std::size_t check_restarts(Sim serial, const std::string& name) {
     constexpr int dim = Sim::dimension;
     const int rank = mmtest::world_rank(), ranks = mmtest::world_size();
     mm::mpi::DistributedRun first(MPI_COMM_WORLD, serial);
@@ -63,11 +64,16 @@ void check_restarts(Sim serial, const std::string& name) {
     if (rank == 0) std::filesystem::remove(file);
     BOOST_TEST(restored.steps_done() == 50u);
 
-    serial.run(100);
+    serial.run(50);
+    const std::size_t sorts_at_checkpoint = serial.spatial_sorts();  // the engine's sorts (from 2048 particles on)
+    BOOST_TEST(first.spatial_sorts() == sorts_at_checkpoint);
+    serial.run(50);
+    const std::size_t sorts_after = serial.spatial_sorts() - sorts_at_checkpoint;
     // On all ranks.
     mm::mpi::DistributedRun again(MPI_COMM_WORLD, restored, mm::mpi::DistributedRun<Sim>::Start::resume);
     again.run(50);
     BOOST_TEST(again.steps_done() == 100u);
+    BOOST_TEST(again.spatial_sorts() - restored.spatial_sorts() == sorts_after);
     const double on_all = from_distributed(serial, again);
     // The books went through the checkpoint: each entry against the serial run's, relative to the
     // total energy (a book lost or counted on every rank would be off by its whole value).
@@ -91,12 +97,14 @@ void check_restarts(Sim serial, const std::string& name) {
     if (rank == 0) {
         mm::mpi::DistributedRun single(alone, restored, mm::mpi::DistributedRun<Sim>::Start::resume);
         single.run(50);
+        BOOST_TEST(single.spatial_sorts() - restored.spatial_sorts() == sorts_after);
         on_one = from_distributed(serial, single);
         const mm::OpenBooks one_books = mm::mpi::open_books(single);
         books_on_one = books_gap(one_books.books, one_books.initial_energy);
         MPI_Comm_free(&alone);
         Sim continued = restored;
         continued.run(50);
+        BOOST_TEST(continued.spatial_sorts() - restored.spatial_sorts() == sorts_after);
         in_serial = from_serial(serial, continued);
         books_in_serial = books_gap(continued.books(), continued.initial_energy());
     }
@@ -122,10 +130,18 @@ void check_restarts(Sim serial, const std::string& name) {
         BOOST_TEST(dh < round_off, "walls off by " << dh << " of a radius");
         BOOST_TEST(std::abs(serial.walls()[2 * dim - 1].offset - serial.walls()[2 * dim - 1].initial_offset) > 1e-6);
     }
+    return sorts_after;
 }
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_restarts_on_any_rank_count, D, Dims) {
     check_restarts(mmtest::lattice<D::value>(D::value == 2 ? 18 : 8, 10e-6), "periodic_");
+}
+
+// The checkpoint carries the serial engine's sorting and neighbour-list references: a scene large
+// enough to be sorted (mpi_lattice.hpp), sorted again between the checkpoint and the end, ends
+// there with the serial run's particles in every copy, sorted as often.
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_keeps_the_serial_sorting, D, Dims) {
+    BOOST_TEST(check_restarts(mmtest::sorting_lattice<D::value>(std::pair{50, 100}), "sorting_") == 1u);
 }
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_of_a_box_of_walls_restarts_on_any_rank_count, D, Dims) {

@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numeric>
 #include <optional>
 #include <random>
 
@@ -75,11 +76,12 @@ Sim share_of(const Sim& serial) {
 // Returns the split's box at the start and at the end (rank-independent). `shares`: each rank
 // passes its share of the particles (share_of) instead of the whole scene. `change`: after 100
 // steps, the friction coefficient drops from 0.5 to 0.2 and a damping doubles, in every run.
-// `serial_wall_sums`: as DistributedRun::set_serial_wall_sums.
+// `serial_wall_sums`: as DistributedRun::set_serial_wall_sums. `sorts`, if given: how often the
+// serial engine sorted its particles during the run.
 template <class Sim>
 std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::dimension>> compare_with_serial(
     Sim serial, bool redistributes, bool migrates, bool shares = false, int threads = 1, double round_off = 2e-11,
-    bool change = false, bool serial_wall_sums = true) {
+    bool change = false, bool serial_wall_sums = true, std::size_t* sorts = nullptr) {
     constexpr int dim = Sim::dimension;
     const double skin = serial.skin();
     serial.set_track_energy(true);  // the distributed run books as the scene does
@@ -97,11 +99,11 @@ std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::
     std::vector<mm::Index> order(serial.particles().size());
     for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<mm::Index>(order.size() - 1 - i);
     backwards.renumber(order);
+    const std::size_t sorts_before = serial.spatial_sorts();
     serial.prepare();
     backwards.prepare();
     const auto& s = serial.particles();
     const auto& p = distributed.local().particles();
-    const auto by_id = s.index_by_id();
     const int rank = distributed.comm().rank();
     std::size_t sliding = 0, contacts = 0, wall_contacts = 0;  // at the three comparisons
     // Every owned particle against the serial one, relative to the serial run's largest value
@@ -115,9 +117,14 @@ std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::
         for (std::size_t i = 0; i < s.size(); ++i) w_scale = std::max(w_scale, norm<dim>(w[i])), t_scale = std::max(t_scale, norm<dim>(t[i]));
         const double x_scale = 1e-3, v_scale = largest<dim>(s.velocity()), f_scale = largest<dim>(s.force());
         BOOST_TEST_REQUIRE((v_scale > 0 && f_scale > 0 && w_scale > 0 && t_scale > 0));
+        // The serial engine sorts scenes from auto_sort_min_particles on; the ranks follow its
+        // numbering, and each particle's place in it is its serial index.
+        BOOST_TEST(distributed.spatial_sorts() == serial.spatial_sorts(), "step " << steps);
+        const auto by_id = s.index_by_id();
         double dx = 0, dv = 0, dw = 0, df = 0, dt = 0;
         for (std::size_t i = 0; i < distributed.owned(); ++i) {
             const std::size_t k = by_id[distributed.global_id(i)];
+            BOOST_TEST_REQUIRE(distributed.place(i) == k, "step " << steps << ": particle " << distributed.global_id(i) << "'s place");
             dx = std::max(dx, serial.domain().separation(p.position()[i], s.position()[k]).norm() / x_scale);
             dv = std::max(dv, (p.velocity()[i] - s.velocity()[k]).norm() / v_scale);
             df = std::max(df, (p.force()[i] - s.force()[k]).norm() / f_scale);
@@ -266,6 +273,7 @@ std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::
     MPI_Allreduce(&arrived, &moved, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
     BOOST_TEST_MESSAGE(dim << "D, skin " << skin << ": " << distributed.redistributions() << " redistributions, " << moved << " particles changed ranks");
     if (migrates && mmtest::world_size() > 1) BOOST_TEST(moved > 0u, "no particle changed ranks: the test would not see a migration");
+    if (sorts) *sorts = serial.spatial_sorts() - sorts_before;
     return {first_split, distributed.comm().split()};
 }
 
@@ -330,6 +338,20 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_law_changed_between_steps_keeps_the_serial_state
 BOOST_AUTO_TEST_CASE_TEMPLATE(shares_of_the_particles_give_the_serial_state, D, Dims) {
     compare_with_serial(lattice<D::value>(per_side(D::value), 10e-6), true, true, true);
     compare_with_serial(mmtest::walled_lattice<D::value>(D::value == 2 ? 19 : 7, 0.5e-3, false), false, false, true);
+}
+
+// From auto_sort_min_particles particles on, the serial engine sorts its particles spatially on
+// its own, at its first neighbour search and at a search that finds the order decayed (the
+// candidates' mean index gap doubled since its last sort). The ranks follow: every particle's
+// place in the serial numbering stays its serial index through the sorts, and the run keeps the
+// serial state (the serial bits without fused multiply-adds).
+BOOST_AUTO_TEST_CASE_TEMPLATE(the_serial_engines_sorts_keep_the_serial_state, D, Dims) {
+    constexpr int dim = D::value;
+    std::size_t sorts = 0;
+    compare_with_serial(mmtest::sorting_lattice<dim>(), true, true, false, 1, 2e-11, false, true, &sorts);
+    BOOST_TEST(sorts == 1u, "sorted at the first search only: " << sorts);
+    compare_with_serial(mmtest::sorting_lattice<dim>(std::pair{0, 200}), true, true, false, 1, 2e-11, false, true, &sorts);
+    BOOST_TEST(sorts == 1u, "sorted within the run: " << sorts);
 }
 
 // Resuming keeps the scene's last forces: a scene that has none (never prepared) or whose forces

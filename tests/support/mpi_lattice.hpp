@@ -1,7 +1,13 @@
 #pragma once
 // The MPI tests' scenes: a dense frictional periodic packing on a jittered lattice, the same on
 // every rank, and the lattice in a box of moving walls.
+#include <algorithm>
+#include <numeric>
+#include <optional>
 #include <random>
+#include <stdexcept>
+#include <utility>
+#include <vector>
 
 #include <micromacro/micromacro.hpp>
 
@@ -53,6 +59,44 @@ auto lattice(int per_side, double skin, double holes = 0.0, double spacing = 1.9
     mm::BasicSimulation<dim, double, mm::FrictionalLinear> sim(lattice_law, mmtest::periodic_box<dim>(per_side * spacing));
     fill_lattice<dim>(sim, per_side, skin, holes, spacing);
     return sim;
+}
+
+// The lattice of 2116 disks or 2197 spheres, enough for the engine to sort them on its own
+// (set_auto_sort), numbered at random and eight times as fast (1.6 m/s: partners change within a few
+// hundred steps). With `sort_within` = (first, last): sorted and measured, then the measure set so
+// that the engine sorts again at a neighbour search after step `first` and by step `last`, and at
+// none before (a copy probed first: the candidates' mean index gap moves a little either way from
+// search to search; the measure is a quarter of the sum of its largest value before and after).
+template <int dim>
+auto sorting_lattice(std::optional<std::pair<int, int>> sort_within = std::nullopt) {
+    auto scene = lattice<dim>(dim == 2 ? 46 : 13, 10e-6);
+    scene.set_auto_sort(true);
+    std::vector<mm::Index> random(scene.particles().size());
+    std::iota(random.begin(), random.end(), mm::Index{0});
+    std::shuffle(random.begin(), random.end(), std::mt19937(5));
+    scene.renumber(random);
+    for (auto& v : scene.particles().velocity()) v *= 8.0;
+    if (!sort_within) return scene;
+    scene.prepare();
+    auto gap = [](const auto& sim) {
+        double sum = 0.0, count = 0.0;
+        sim.visit_pair_histories([&](mm::Index i, mm::Index j, const auto&) { sum += double(j) - double(i), ++count; });
+        return sum / count;
+    };
+    auto probe = scene;
+    double before = gap(probe), within = 0.0;
+    for (int step = 1; step <= sort_within->second; ++step) {
+        const std::size_t searches = probe.neighbor_rebuilds();
+        probe.step();
+        if (probe.neighbor_rebuilds() == searches) continue;
+        double& largest = step <= sort_within->first ? before : within;
+        largest = std::max(largest, gap(probe));
+    }
+    if (!(within > before)) throw std::logic_error("sorting_lattice: the gap grows at no search in the steps asked for");
+    auto search = scene.search_state();
+    search.sorted_gap = 0.25 * (before + within);
+    scene.restore_search_state(search);
+    return scene;
 }
 
 // The lattice in a box of walls instead (no periodic axis, an unbounded domain), the outer rows

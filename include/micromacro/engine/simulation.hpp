@@ -37,7 +37,7 @@
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/neighbors/search_window.hpp"
-#include "micromacro/neighbors/spatial_order.hpp"
+#include "micromacro/neighbors/search_state.hpp"
 #include "micromacro/particles/particles.hpp"
 #include "micromacro/walls/walls.hpp"
 
@@ -158,6 +158,9 @@ public:
     bool auto_sort() const { return auto_sort_; }
     /// How often the particles were sorted, by sort_spatially or on the engine's own.
     std::size_t spatial_sorts() const { return sorts_; }
+    /// What the next neighbour search waits on and decides by (neighbors/search_state.hpp).
+    SearchState<dim, Real> search_state() const { return {reference_, wall_reference_, sorted_gap_}; }
+    void restore_search_state(SearchState<dim, Real> state);
     /// Particles from index `first` on are ghosts, copies of particles another process computes
     /// (mpi::DistributedRun): the lists leave out pairs of two ghosts and a ghost's wall contacts
     /// (their forces are the owners'), the body forces act on the own particles only, and the
@@ -371,9 +374,7 @@ private:
     double dt_ = 0.0, skin_ = 0.0, time_ = 0.0, last_move_ = 0.0;
     double evaluated_dt_ = 0.0;  // the step of the last force evaluation, which advanced the springs
     std::size_t steps_ = 0, rebuilds_ = 0, sorts_ = 0;
-    // The candidates' mean index distance after the last sort; 0: never sorted, -1: sorted since
-    // the last neighbour search, which measures it (see rebuild_neighbors).
-    double sorted_gap_ = 0.0;
+    double sorted_gap_ = 0.0;  // SearchState::sorted_gap
     bool auto_sort_ = true;
     std::size_t first_ghost_ = std::numeric_limits<std::size_t>::max();
     bool counts_walls_ = true, keeps_wall_terms_ = false;

@@ -155,6 +155,18 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::restore_search_state(SearchState<dim, Real> state)
+    -> void {
+    if (state.particles.size() != particles_.size() || state.walls.size() != wall_reference_.size())
+        detail::throw_input_error("restore_search_state: positions of ", state.particles.size(), " particles and offsets of ",
+                                  state.walls.size(), " walls for a scene of ", particles_.size(), " particles and ",
+                                  wall_reference_.size(), " walls searched; prepare() the scene first and give one of each");
+    reference_ = std::move(state.particles);
+    wall_reference_ = std::move(state.walls);
+    sorted_gap_ = state.sorted_gap;
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::set_pair_order(std::vector<std::uint64_t> key)
     -> void {
     if (!key.empty()) {
@@ -218,9 +230,10 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     find();
     if (auto_sort_ && particles_.size() >= auto_sort_min_particles && !next.empty()) {
         const double gap = mean_index_gap(next);
-        if (sorted_gap_ < 0.0) {
+        const OrderAction action = order_action(sorted_gap_, gap);
+        if (action == OrderAction::measure) {
             sorted_gap_ = gap;  // the order sort_spatially left
-        } else if (sorted_gap_ == 0.0 || gap > 2.0 * sorted_gap_) {  // never sorted, or the order has decayed
+        } else if (action == OrderAction::sort) {
             sort_spatially();  // renumbers the present candidates and their histories too
             find();
             sorted_gap_ = mean_index_gap(next);

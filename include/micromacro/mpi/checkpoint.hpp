@@ -17,6 +17,7 @@
 #include "micromacro/mpi/distributed_run.hpp"
 #include "micromacro/mpi/energy.hpp"
 #include "micromacro/mpi/halo.hpp"
+#include "micromacro/neighbors/search_state.hpp"
 
 namespace micromacro::mpi {
 
@@ -24,7 +25,7 @@ namespace checkpoint_detail {
 /// What every rank sends of one of its particles.
 struct Particle {
     ParticleRecord r;
-    std::array<double, 3> force, torque;
+    std::array<double, 3> force, torque, reference;  // reference: where the last neighbour search found it
 };
 
 /// Every rank's `mine`, on every rank, in rank order (MPI_Allgatherv of bytes).
@@ -44,23 +45,26 @@ std::vector<T> all_of(MPI_Comm comm, const std::vector<T>& mine) {
 }  // namespace checkpoint_detail
 
 /// The whole scene of `run` as one serial scene, the same on every rank (a collective call):
-/// particles numbered in the serial order (DistributedRun::place: as the scene the run started
-/// from, which a spatial sort may have numbered apart from its ids, or the shares in rank order)
-/// with their global ids, their positions (in the box), velocities, angular velocities and the
-/// last forces and torques, each pair's and wall contact's spring, the walls (every rank's copy
-/// is the same) and body forces, the run's clock, time step and skin, and the energy books added
-/// over the ranks (mpi::open_books). So the serial engine goes on from it as from the scene the
-/// run started from, summing in its order. The engine's own sorting is off.
+/// particles numbered in the serial order (DistributedRun::place: as the serial engine numbers
+/// them, its spatial sorts followed, or the shares in rank order) with their global ids, their
+/// positions (in the box), velocities, angular velocities and the last forces and torques, each
+/// pair's and wall contact's spring, the walls (every rank's copy is the same) and body forces,
+/// the run's clock, time step and skin, the energy books added over the ranks (mpi::open_books),
+/// and the neighbour-list references and sorting (search_state, set_auto_sort). So the serial
+/// engine goes on from it as from the scene the run started from: summing in its order, and
+/// searching and sorting where it would.
 template <class Sim>
 Sim whole_scene(const DistributedRun<Sim>& run) {
     constexpr int dim = Sim::dimension;
     using History = typename Sim::History;
     const Sim& local = run.local();
     const auto& p = local.particles();
+    const auto search = run.search_state();
     std::vector<checkpoint_detail::Particle> mine;
     for (std::size_t i = 0; i < run.owned(); ++i)
         mine.push_back({record_of(p, i, run.global_id(i), run.place(i)), record_vector<dim>(convert<double>(p.force()[i])),
-                        record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]))});
+                        record_angular<dim>(convert<double>(p.template get<field::Torque>()[i])),
+                        record_vector<dim>(convert<double>(search.particles[i]))});
     // Each pair's spring once: from the rank that owns its partner of smaller global id.
     std::vector<PairSpring<History>> springs;
     local.visit_pair_histories([&](Index i, Index j, const History& h) {
@@ -90,7 +94,12 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     whole.set_skin(run.skin());
     whole.set_auto_sort(false);
     whole.set_track_energy(local.track_energy());
-    whole.prepare();  // the lists; its forces, springs and books are replaced below
+    whole.prepare();  // the lists; its forces, springs, books and references are replaced below
+    // Its next neighbour search and sort where the run's would be.
+    SearchState<dim, typename Sim::Scalar> references{{}, search.walls, search.sorted_gap};
+    for (const auto* q : by_id) references.particles.push_back(vector_of_record<dim>(q->reference).template cast<typename Sim::Scalar>());
+    whole.restore_search_state(std::move(references));
+    whole.set_auto_sort(run.auto_sort());
     SpringsByPair<History> spring_of;
     for (const auto& s : all_springs) spring_of.emplace(std::pair{s.a, s.b}, s.h);
     restore_springs(whole, spring_of, [](Index i) { return i; });  // indices are the global ids

@@ -16,6 +16,9 @@
 // it, the halos are built again and each rank's engine is rebuilt on its new particles. Particles
 // go to the neighbouring ranks only, axis by axis (as in LAMMPS's Comm::exchange).
 //
+// The places in the serial numbering follow the serial engine's sorts (mpi/serial_order.hpp), and
+// a resumed run takes over the scene's neighbour-list references: the ranks search where it would.
+//
 // Walls: every rank holds every wall, and a particle's wall contacts are its owner's (a ghost
 // has none). After each force evaluation the walls' forces are summed over the ranks, on every
 // rank in the serial run's order (set_serial_wall_sums), so that the walls move by the same
@@ -52,6 +55,7 @@
 #include "micromacro/mpi/engine_parts.hpp"
 #include "micromacro/mpi/halo.hpp"
 #include "micromacro/mpi/migration.hpp"
+#include "micromacro/mpi/serial_order.hpp"
 #include "micromacro/mpi/springs.hpp"
 #include "micromacro/neighbors/skin.hpp"
 
@@ -103,12 +107,14 @@ public:
                                                   "since); call its prepare() first, or use Start::fresh");
         if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());  // before an engine measures them
         Index first_id = 0;  // of this rank's share
+        std::size_t total = p.size();
         if (share) {
             // The skin and halo from every share's radii; the ids after the earlier ranks' shares.
             const ShareSizes all = share_sizes(comm_.comm(), parent, p.radius());
             if (!(skin_ > 0.0)) skin_ = default_skin(all.radius_sum, all.count);
             width_ = interaction_range(all.largest_radius, skin_);
             first_id = all.first_id;
+            total = static_cast<std::size_t>(all.count);
         } else {
             if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
             width_ = interaction_range(p.radius(), skin_);
@@ -122,8 +128,13 @@ public:
             if (resume) s.torque = record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]));
             all.push_back(s);
         }
+        SearchState<dim, typename Sim::Scalar> search = whole.search_state();
+        order_ = SerialOrder(comm_.comm(), whole.auto_sort(), total >= Sim::auto_sort_min_particles, search.sorted_gap,
+                             whole.spatial_sorts());
         SpringsByPair<History> springs, wall_springs;
         if (resume) {
+            start_search_.emplace(search);  // by global id (whole: the particle's id)
+            for (std::size_t i = 0; i < p.size(); ++i) start_search_->particles[p.id(i)] = search.particles[i];
             whole.visit_pair_histories([&](Index i, Index j, const History& h) {
                 const auto spring = PairSpring<History>::of(p.id(i), p.id(j), h);
                 springs.emplace(std::pair{spring.a, spring.b}, spring.h);
@@ -197,6 +208,13 @@ public:
     }
     /// How often the particles were handed to new ranks.
     std::size_t redistributions() const { return redistributions_; }
+    /// The serial scene's set_auto_sort, and how often its particles were sorted (the places in
+    /// the serial numbering renumbered, counted on from the scene's spatial_sorts()).
+    bool auto_sort() const { return order_.on(); }
+    std::size_t spatial_sorts() const { return order_.sorts(); }
+    /// What this rank's next neighbour search waits on, by owned index, with the serial order's
+    /// measure: the particles' part of the serial scene's search_state() (mpi::whole_scene).
+    SearchState<dim, typename Sim::Scalar> search_state() const;
     /// This rank's halo traffic per step: bytes and messages it sends to refresh the ghosts.
     std::size_t halo_bytes_per_step() const { return halo_->bytes_per_refresh(); }
     std::size_t halo_messages_per_step() const { return halo_->messages_per_refresh(comm_); }
@@ -272,13 +290,15 @@ private:
         p.template get<field::AngularVelocity>()[i] = m.angular();
     }
 
-    /// After set_law: every rank's engine evaluates the present forces again (its prepare(); the
-    /// particles are handed out afresh at the next particle pass, as the engine rebuilt its lists).
+    /// After set_law: the serial scene's next step prepares again, a neighbour search (which may
+    /// sort) and the present forces evaluated anew. So the ranks hand out their particles as at a
+    /// search, then every rank's engine evaluates again (its prepare(), at the same positions).
     void evaluate_changed_law() {
         if (!law_changed_) return;
         law_changed_ = false;
-        refresh_ghosts();  // the evaluation reads the ghosts' velocities
+        redistribute();
         local_->prepare();
+        rebuilds_ = local_->neighbor_rebuilds();
         rearrange_walls();
         sum_walls();
     }
@@ -322,6 +342,11 @@ private:
     /// kick within a step) and so are the walls' forces.
     void distribute(const std::vector<State>& all, const SpringsByPair<History>& springs, const SpringsByPair<History>& wall_springs,
                     Stage stage);
+    /// This rank's halo and engine on `own_states`, its particles, at `places` in the serial
+    /// numbering (by own_states, which it puts in their order), their lists built.
+    void build(std::vector<const State*>& own_states, const std::vector<Index>& places);
+    /// At a resumed start: the scene's neighbour-list references for this rank's engine.
+    void take_start_search();
 
     /// After the engine's prepare(), which builds its lists: the walls' serial sums are arranged
     /// anew at the next sum.
@@ -361,6 +386,8 @@ private:
     bool law_changed_ = false;    // set_law since the last step
     bool serial_wall_sums_ = true;
     [[no_unique_address]] std::conditional_t<Sim::has_walls, SerialWallSum<dim>, std::tuple<>> wall_sum_;
+    SerialOrder order_;
+    std::optional<SearchState<dim, typename Sim::Scalar>> start_search_;  // a resumed scene's, by global id, until used
     double skin_, dt_, width_ = 0.0, time_;
     std::size_t steps_;
     bool track_;                               // energy books, as the scene's

@@ -1,8 +1,12 @@
 #pragma once
 // DistributedRun's hand-over of particles between ranks: redistribute() sends the particles that
 // left a rank's subdomain to their new owners with their springs, distribute() builds a rank's
-// engine on the particles it owns and the ghosts of its new halo.
+// engine on the particles it owns and the ghosts of its new halo, searching where the serial
+// engine searches (its sorts followed, a resumed scene's references taken over).
+#include <algorithm>
 #include <array>
+#include <cstddef>
+#include <numeric>
 #include <optional>
 #include <utility>
 #include <vector>
@@ -50,16 +54,64 @@ inline void DistributedRun<Sim>::redistribute() {
 template <class Sim>
 inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const SpringsByPair<History>& springs,
                                             const SpringsByPair<History>& wall_springs, Stage stage) {
-    std::vector<ParticleRecord> owned;
     std::vector<const State*> own_states;
-    for (const State& s : all) {
-        if (!comm_.split().owns(vector_of_record<dim>(s.r.x))) continue;
-        owned.push_back(s.r);
-        own_states.push_back(&s);
-    }
+    for (const State& s : all)
+        if (comm_.split().owns(vector_of_record<dim>(s.r.x))) own_states.push_back(&s);
+    std::vector<Index> places(own_states.size());
+    for (std::size_t k = 0; k < own_states.size(); ++k) places[k] = own_states[k]->r.place;
     // Within a step this rank's books go on in its new engine; at the start, a scene's that has run.
     std::optional<OpenBooks> books = std::exchange(books_at_start_, std::nullopt);
     if (local_) books = local_->open_books();
+    build(own_states, places);
+    if (stage == Stage::resume) {
+        take_start_search();
+    } else {  // a search where the serial engine searches: where it sorts, built again in its new order
+        auto pairs = [&](auto&& f) { local_->visit_pair_histories([&](Index i, Index j, const History&) { f(i, j); }); };
+        auto gap = [&] { return SerialOrder::mean_gap(comm_.comm(), pairs, [&](Index i) { return place_[i]; }, owned_); };
+        if (order_.at_search(gap) == OrderAction::sort) {
+            const auto& p = local_->particles();
+            build(own_states, SerialOrder::sorted_places(comm_.comm(), box_, p.position(), p.radius(),
+                                                         [&](Index i) { return place_[i]; }, owned_));
+            order_.sorted(*gap());
+        }
+    }
+    rearrange_walls();
+    if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
+    rebuilds_ = local_->neighbor_rebuilds();
+    ghosts_current_ = true;
+    if (stage == Stage::fresh) {
+        sum_walls();
+        return;
+    }
+    if constexpr (Sim::has_walls)
+        for (std::size_t k = 0; k < walls_.size(); ++k) local_->walls()[k].force = walls_[k].force;
+    auto& p = local_->particles();
+    for (std::size_t i = 0; i < owned_; ++i) {
+        for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
+        p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
+    }
+    restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
+    if constexpr (Sim::has_walls) restore_wall_springs(*local_, wall_springs, [&](Index i) { return global_id(i); });
+}
+
+template <class Sim>
+inline void DistributedRun<Sim>::build(std::vector<const State*>& own_states, const std::vector<Index>& places) {
+    // In the order of the places: on one rank, the serial engine's own numbering. The particles
+    // that stayed come in that order, those that arrived after them: those sorted, then merged.
+    std::vector<std::size_t> by_place(own_states.size());
+    std::iota(by_place.begin(), by_place.end(), std::size_t{0});
+    const auto before = [&](std::size_t a, std::size_t b) { return places[a] < places[b]; };
+    const auto arrived = std::is_sorted_until(by_place.begin(), by_place.end(), before);
+    std::sort(arrived, by_place.end(), before);
+    std::inplace_merge(by_place.begin(), arrived, by_place.end(), before);
+    std::vector<ParticleRecord> owned;
+    std::vector<const State*> ordered;
+    for (const std::size_t k : by_place) {
+        owned.push_back(own_states[k]->r);
+        owned.back().place = places[k];
+        ordered.push_back(own_states[k]);
+    }
+    own_states = std::move(ordered);
     halo_.emplace(comm_, owned, width_);
     local_.emplace(engine(box_, walls_));
     global_.clear();
@@ -82,24 +134,24 @@ inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const
     serial_pair_order();
     if constexpr (Sim::has_walls) local_->keep_wall_terms(serial_wall_sums_);
     local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
-    local_->prepare();                 // the lists (and forces, replaced below unless fresh)
-    rearrange_walls();
-    if (books) local_->continue_books(std::move(*books));  // as if prepare() had not evaluated
-    rebuilds_ = local_->neighbor_rebuilds();
-    ghosts_current_ = true;
-    if (stage == Stage::fresh) {
-        sum_walls();
-        return;
-    }
-    if constexpr (Sim::has_walls)
-        for (std::size_t k = 0; k < walls_.size(); ++k) local_->walls()[k].force = walls_[k].force;
-    auto& p = local_->particles();
-    for (std::size_t i = 0; i < owned_; ++i) {
-        for (int a = 0; a < dim; ++a) p.template get<field::Force>()[i][a] = own_states[i]->force[a];
-        p.template get<field::Torque>()[i] = angular_of_record<dim>(own_states[i]->torque);
-    }
-    restore_springs(*local_, springs, [&](Index i) { return global_id(i); });
-    if constexpr (Sim::has_walls) restore_wall_springs(*local_, wall_springs, [&](Index i) { return global_id(i); });
+    local_->prepare();                 // the lists (and forces, replaced by distribute() unless fresh)
+}
+
+template <class Sim>
+inline void DistributedRun<Sim>::take_start_search() {
+    auto s = local_->search_state();
+    for (std::size_t i = 0; i < owned_; ++i) s.particles[i] = start_search_->particles[global_[i]];
+    s.walls = start_search_->walls;
+    local_->restore_search_state(std::move(s));
+    start_search_.reset();
+}
+
+template <class Sim>
+inline auto DistributedRun<Sim>::search_state() const -> SearchState<dim, typename Sim::Scalar> {
+    SearchState<dim, typename Sim::Scalar> s = local_->search_state();
+    s.particles.resize(owned_);
+    s.sorted_gap = order_.sorted_gap();
+    return s;
 }
 
 }  // namespace micromacro::mpi

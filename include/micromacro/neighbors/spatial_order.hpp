@@ -52,13 +52,59 @@ struct Permutation {
 };
 }  // namespace detail
 
-/// The mean of j - i over candidate pairs (i < j): how far apart in memory partners lie, the
-/// measure of an order's decay (0 for no pairs).
+/// The mean of |j - i| over candidate pairs: how far apart in memory partners lie, the
+/// measure of an order's decay (0 for no pairs). Summed in integers, exactly, so that processes
+/// adding their parts get the same number (mpi/serial_order.hpp).
 inline double mean_index_gap(const std::vector<IndexPair>& pairs) {
-    double sum = 0.0;
-    for (const IndexPair& p : pairs) sum += double(p.j) - double(p.i);
-    return pairs.empty() ? 0.0 : sum / double(pairs.size());
+    std::uint64_t sum = 0;
+    for (const IndexPair& p : pairs) sum += p.j > p.i ? p.j - p.i : p.i - p.j;
+    return pairs.empty() ? 0.0 : double(sum) / double(pairs.size());
 }
+
+/// What a neighbour search does about the particles' order, given the candidates' mean index
+/// gap now and `sorted`, the gap the last sort left (0: never sorted; negative: sorted since the
+/// last search, which measures it): sort when never sorted or when the gap has doubled (the
+/// order has decayed), as BasicSimulation::set_auto_sort describes. mpi::DistributedRun decides
+/// by the same rule from the gap its ranks measure together.
+enum class OrderAction { keep, measure, sort };
+inline OrderAction order_action(double sorted, double gap) {
+    if (sorted < 0.0) return OrderAction::measure;
+    return sorted == 0.0 || gap > 2.0 * sorted ? OrderAction::sort : OrderAction::keep;
+}
+
+/// The row order's cells: each axis's lower end, the cell width and the axis's place in the key
+/// (0 for the fastest, the shortest extent; ties by axis number). spatial_order sorts by key();
+/// a process holding part of the scene builds the same cells from the whole scene's extents
+/// (mpi::DistributedRun).
+template <int dim>
+class RowCells {
+public:
+    /// `lo` and `hi`: the extent along each axis (the box's along a periodic one, the particles'
+    /// along the others); `cell`: the cells' width.
+    RowCells(const std::array<double, dim>& lo, const std::array<double, dim>& hi, double cell) : lo_(lo), cell_(cell) {
+        std::array<int, dim> axes;
+        std::iota(axes.begin(), axes.end(), 0);
+        std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return hi[a] - lo[a] < hi[b] - lo[b]; });
+        for (int place = 0; place < dim; ++place) rank_[axes[place]] = place;
+    }
+    /// The cell of position x as one number, in row order.
+    template <class P>
+    std::uint64_t key(const P& x) const {
+        std::uint64_t k = 0;
+        for (int a = 0; a < dim; ++a) {
+            const double c = std::clamp(std::floor((double(x[a]) - lo_[a]) / cell_), 0.0, max_cell);
+            k |= static_cast<std::uint64_t>(c) << (bits * rank_[a]);
+        }
+        return k;
+    }
+
+private:
+    static constexpr int bits = 64 / dim;  // per axis: 32 in 2D, 21 in 3D
+    static constexpr double max_cell = double((std::uint64_t{1} << bits) - 1);
+    std::array<double, dim> lo_;
+    std::array<int, dim> rank_;
+    double cell_;
+};
 
 /// The permutation that sorts the particles in row order through cells `cell` wide (default:
 /// the largest diameter), the axes taken from the shortest extent (fastest) to the longest:
@@ -79,22 +125,9 @@ std::vector<Index> spatial_order(const std::vector<Vec<dim, Real>>& x, const std
         if (!domain.periodic(k))
             for (const auto& p : x) lo[k] = std::min(lo[k], double(p[k])), hi[k] = std::max(hi[k], double(p[k]));
     }
-    // rank[a]: the axis's place in the key, 0 for the fastest (shortest) axis; ties by axis number.
-    std::array<int, dim> axes, rank;
-    std::iota(axes.begin(), axes.end(), 0);
-    std::stable_sort(axes.begin(), axes.end(), [&](int a, int b) { return hi[a] - lo[a] < hi[b] - lo[b]; });
-    for (int place = 0; place < dim; ++place) rank[axes[place]] = place;
-    constexpr int bits = 64 / dim;  // per axis: 32 in 2D, 21 in 3D
-    const double max_cell = std::ldexp(1.0, bits) - 1.0;
+    const RowCells<dim> cells(lo, hi, cell);
     std::vector<std::uint64_t> key(n);
-    for (std::size_t i = 0; i < n; ++i) {
-        std::uint64_t k = 0;
-        for (int a = 0; a < dim; ++a) {
-            const double c = std::clamp(std::floor((double(x[i][a]) - lo[a]) / cell), 0.0, max_cell);
-            k |= static_cast<std::uint64_t>(c) << (bits * rank[a]);
-        }
-        key[i] = k;
-    }
+    for (std::size_t i = 0; i < n; ++i) key[i] = cells.key(x[i]);
     std::stable_sort(order.begin(), order.end(), [&](Index a, Index b) { return key[a] < key[b]; });
     return order;
 }
