@@ -14,6 +14,7 @@
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numeric>
 #include <optional>
@@ -77,18 +78,20 @@ Sim share_of(const Sim& serial) {
 // passes its share of the particles (share_of) instead of the whole scene. `change`: after 100
 // steps, the friction coefficient drops from 0.5 to 0.2 and a damping doubles, in every run.
 // `serial_wall_sums`: as DistributedRun::set_serial_wall_sums. `sorts`, if given: how often the
-// serial engine sorted its particles during the run.
+// serial engine sorted its particles during the run. `split`: DistributedRun::Split (equal slabs,
+// whose boundaries the scenes' rows sit on, unless said).
 template <class Sim>
 std::pair<mm::mpi::CartesianSplit<Sim::dimension>, mm::mpi::CartesianSplit<Sim::dimension>> compare_with_serial(
     Sim serial, bool redistributes, bool migrates, bool shares = false, int threads = 1, double round_off = 2e-11,
-    bool change = false, bool serial_wall_sums = true, std::size_t* sorts = nullptr) {
+    bool change = false, bool serial_wall_sums = true, std::size_t* sorts = nullptr,
+    typename mm::mpi::DistributedRun<Sim>::Split split = mm::mpi::DistributedRun<Sim>::Split::equal) {
     constexpr int dim = Sim::dimension;
     const double skin = serial.skin();
     serial.set_track_energy(true);  // the distributed run books as the scene does
     using Run = mm::mpi::DistributedRun<Sim>;
     const std::optional<Sim> share = shares ? std::optional<Sim>(share_of(serial)) : std::nullopt;
     mm::mpi::DistributedRun distributed(MPI_COMM_WORLD, shares ? *share : serial, Run::Start::fresh,
-                                        shares ? Run::Input::share : Run::Input::whole);  // from the state before the steps
+                                        shares ? Run::Input::share : Run::Input::whole, split);  // from the state before the steps
     distributed.set_threads(threads);
     distributed.set_serial_wall_sums(serial_wall_sums);
     serial.set_threads(threads);  // one rank: the same thread shares, the same bits
@@ -352,6 +355,41 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(the_serial_engines_sorts_keep_the_serial_state, D,
     BOOST_TEST(sorts == 1u, "sorted at the first search only: " << sorts);
     compare_with_serial(mmtest::sorting_lattice<dim>(std::pair{0, 200}), true, true, false, 1, 2e-11, false, true, &sorts);
     BOOST_TEST(sorts == 1u, "sorted within the run: " << sorts);
+}
+
+// The box a third longer along its last axis than the lattice, which fills the rest: equal slabs
+// along that axis (the longest, which the ranks split first) would hold unequal shares (on two
+// ranks the first slab holds 2/3 of the particles, the busiest rank 4/3 of the mean). The balanced split
+// puts its boundaries where each slab holds an equal share, to a row of particles, and the run
+// keeps the serial state whatever the split.
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_balanced_split_gives_the_ranks_equal_shares, D, Dims) {
+    constexpr int dim = D::value;
+    const int per_side = dim == 2 ? 24 : 12;
+    const double spacing = 1.99e-3, L = per_side * spacing;
+    mm::Vec<dim> hi = mm::Vec<dim>::Constant(L);
+    hi[dim - 1] = 4.0 / 3.0 * L;
+    std::array<bool, dim> periodic;
+    periodic.fill(true);
+    mm::BasicSimulation<dim, double, mm::FrictionalLinear> scene(mmtest::lattice_law, mm::Domain<dim>(mm::Vec<dim>::Zero(), hi, periodic));
+    mmtest::fill_lattice<dim>(scene, per_side, 10e-6, 0.0, spacing);
+    using Run = mm::mpi::DistributedRun<decltype(scene)>;
+    auto shares = [&](Run::Split split) {  // the busiest rank's particles over the mean
+        Run run(MPI_COMM_WORLD, scene, Run::Start::fresh, Run::Input::whole, split);
+        run.run(50);
+        const unsigned long long mine = run.owned();
+        unsigned long long most = 0, all = 0;
+        MPI_Allreduce(&mine, &most, 1, MPI_UNSIGNED_LONG_LONG, MPI_MAX, MPI_COMM_WORLD);
+        MPI_Allreduce(&mine, &all, 1, MPI_UNSIGNED_LONG_LONG, MPI_SUM, MPI_COMM_WORLD);
+        return double(most) / (double(all) / mmtest::world_size());
+    };
+    const double equal = shares(Run::Split::equal), balanced = shares(Run::Split::balanced);
+    const auto dims = mm::mpi::CartesianComm<dim>(MPI_COMM_WORLD, scene.domain()).split().dims;
+    const double row = double(dims[dim - 1]) / per_side;  // a row of particles in a slab's share
+    BOOST_TEST_MESSAGE(dim << "D, " << mmtest::world_size() << " ranks: the busiest rank holds " << equal << " of the mean with equal slabs, "
+                           << balanced << " balanced");
+    if (dims[dim - 1] > 1) BOOST_TEST(equal > 1.2);  // 4/3 but for the rows on the boundaries
+    BOOST_TEST(balanced <= 1.0 + row + 1e-12);
+    compare_with_serial(scene, true, false, false, 1, 2e-11, false, true, nullptr, Run::Split::balanced);
 }
 
 // Resuming keeps the scene's last forces: a scene that has none (never prepared) or whose forces

@@ -77,3 +77,52 @@ BOOST_AUTO_TEST_CASE(a_search_window_is_one_period_centred_on_the_slab_where_the
     BOOST_TEST(two.search_window(0.006, 0.0005).unwrap[0]);    // 0.02 + 0.013 + 0.006 = 0.039
     BOOST_TEST(!two.search_window(0.0065, 0.0005).unwrap[0]);  // 0.02 + 0.014 + 0.0065 = 0.0405
 }
+
+// Balanced boundaries (mpi/balance.hpp): each cut where an equal share of a histogram lies below
+// it, interpolated within its bin; each kept a halo width inside its present neighbours, so that a
+// slab stays a halo wide and a particle moving less than a halo goes at most one slab on; and
+// ownership by the cuts as by equal slabs, one owner per point.
+BOOST_AUTO_TEST_CASE(balanced_cuts_give_each_slab_an_equal_share) {
+    const mm::Domain<2> box(mm::Vec<2>(0.0, 0.0), mm::Vec<2>(1.0, 0.1), {true, false});
+    auto split = mm::mpi::CartesianSplit<2>::of(box, {4, 1}, {0, 0});
+    // Particles evenly over [0, 0.5) only: 8 bins of 0.125, the first four of 100 each.
+    const std::vector<double> counts{100, 100, 100, 100, 0, 0, 0, 0};
+    // Without a halo: 0.125 and 0.25, and 0.5 for the third, which may not pass the present
+    // boundary below it (0.5, of the equal slabs).
+    const std::vector<double> free = split.balanced_cuts(0, counts, 0.0);
+    BOOST_TEST_REQUIRE(free.size() == 3u);
+    BOOST_TEST(free[0] == 0.125, boost::test_tools::tolerance(1e-15));
+    BOOST_TEST(free[1] == 0.25, boost::test_tools::tolerance(1e-15));
+    BOOST_TEST(free[2] == 0.5, boost::test_tools::tolerance(1e-15));
+    // Within a bin: 150 of 400 below 0.125 * (1 + 50/100).
+    BOOST_TEST(split.balanced_cuts(0, {100, 100, 100, 100}, 0.0)[0] == 0.25, boost::test_tools::tolerance(1e-15));
+    // A halo of 0.05 from the present boundaries 0, 0.25, 0.5, 0.75, 1: cut 1 at least 0.05
+    // above 0 and cut 2 at least 0.05 above cut 1 and 0.25, below 0.75 - 0.05.
+    const std::vector<double> held = split.balanced_cuts(0, counts, 0.05);
+    BOOST_TEST(held[0] == 0.125, boost::test_tools::tolerance(1e-15));
+    BOOST_TEST(held[1] == 0.3, boost::test_tools::tolerance(1e-15));   // 0.25 + 0.05
+    BOOST_TEST(held[2] == 0.55, boost::test_tools::tolerance(1e-15));  // 0.5 + 0.05
+    split.cuts[0] = held;
+    BOOST_TEST(split.boundary(0, 2) == 0.3, boost::test_tools::tolerance(1e-15));
+    BOOST_CHECK_NO_THROW(split.check_halo(0.12));
+    BOOST_CHECK_THROW(split.check_halo(0.13), mm::InputError);  // the narrowest slab now [0, 0.125)
+    // A second pass from there comes closer: every cut may move to a halo from its neighbours.
+    split.cuts[0] = split.balanced_cuts(0, counts, 0.05);
+    BOOST_TEST(split.cuts[0][1] == 0.25, boost::test_tools::tolerance(1e-15));
+    BOOST_TEST(split.cuts[0][2] == 0.375, boost::test_tools::tolerance(1e-15));
+    // One owner per point, the owner's subdomain holding it.
+    std::mt19937_64 rng(3);
+    std::uniform_real_distribution<double> U(0.0, 1.0);
+    for (int k = 0; k < 1000; ++k) {
+        const mm::Vec<2> x(U(rng), 0.05);
+        int owners = 0;
+        for (int c = 0; c < 4; ++c) {
+            auto s = mm::mpi::CartesianSplit<2>::of(box, {4, 1}, {c, 0});
+            s.cuts = split.cuts;
+            if (!s.owns(x)) continue;
+            ++owners;
+            BOOST_TEST((x[0] >= s.sub_lo(0) && x[0] < s.sub_hi(0)));
+        }
+        BOOST_TEST(owners == 1);
+    }
+}

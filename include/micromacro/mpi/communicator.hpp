@@ -9,6 +9,7 @@
 #include <functional>
 #include <numeric>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <mpi.h>
@@ -97,6 +98,9 @@ public:
         for (int a = 0; a < dim; ++a)
             if (along[a]) split_.lo[a] = lo[a], split_.hi[a] = hi[a];
     }
+    /// The inner boundaries along axis a as fractions of the box (CartesianSplit::cuts; each
+    /// rank keeps its place in the split).
+    void set_cuts(int a, std::vector<double> cuts) { split_.cuts[a] = std::move(cuts); }
     /// The rank across the lower (direction -1) or upper (+1) face along axis a; MPI_PROC_NULL
     /// at an open box's end. With one slab on a periodic axis, this rank itself.
     int neighbour(int a, int direction) const { return direction < 0 ? below_[a] : above_[a]; }

@@ -50,6 +50,7 @@
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/engine/simulation.hpp"
+#include "micromacro/mpi/balance.hpp"
 #include "micromacro/mpi/communicator.hpp"
 #include "micromacro/mpi/distributed_walls.hpp"
 #include "micromacro/mpi/engine_parts.hpp"
@@ -85,69 +86,16 @@ public:
     /// rank need hold the whole scene. A share starts fresh (its springs are not known across the
     /// shares).
     enum class Input { whole, share };
+    /// How the box is cut: `balanced`, each slab's boundaries where it holds an equal share of the
+    /// particles, at the start and at every redistribution (mpi/balance.hpp); `equal`, equal
+    /// slabs (along an axis walls alone bound, of the particles' extent).
+    enum class Split { balanced, equal };
 
     /// Splits `whole` (the same scene on every rank: particles, law, dt, skin, a box) over the
     /// ranks of `parent`. The skin is the scene's, or the engine's default (a fifth of the mean
     /// radius); the halo is the largest contact distance plus it. The clock starts at whole's.
-    DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh, Input input = Input::whole)
-        : comm_(parent, split_box(whole, input == Input::share ? parent : MPI_COMM_NULL)), box_(whole.domain()), law_(whole.law()),
-          walls_(whole.walls()),
-          forces_(detail::EngineParts<Sim>::forces_of(whole)), follows_(following_axes(whole)), skin_(whole.skin()),
-          dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()), track_(whole.track_energy()) {
-        const auto& p = whole.particles();
-        const bool resume = start == Start::resume, share = input == Input::share;
-        if (!share && steps_ > 0)  // the books of a scene that has run go on, on rank 0
-            books_at_start_ = comm_.rank() == 0 ? whole.open_books() : whole.open_books().without_bookings();
-        if (resume && share)
-            micromacro::detail::throw_input_error("DistributedRun: a resumed run starts from the whole scene on every rank (its springs "
-                                                  "span the shares); use Input::whole, as mpi::whole_scene gives it");
-        if (resume && !whole.prepared())
-            micromacro::detail::throw_input_error("DistributedRun: Start::resume keeps the scene's last forces, but they are not the "
-                                                  "present scene's (never prepared, or particles, law, time step or skin changed "
-                                                  "since); call its prepare() first, or use Start::fresh");
-        if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());  // before an engine measures them
-        Index first_id = 0;  // of this rank's share
-        std::size_t total = p.size();
-        if (share) {
-            // The skin and halo from every share's radii; the ids after the earlier ranks' shares.
-            const ShareSizes all = share_sizes(comm_.comm(), parent, p.radius());
-            if (!(skin_ > 0.0)) skin_ = default_skin(all.radius_sum, all.count);
-            width_ = interaction_range(all.largest_radius, skin_);
-            first_id = all.first_id;
-            total = static_cast<std::size_t>(all.count);
-        } else {
-            if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
-            width_ = interaction_range(p.radius(), skin_);
-        }
-        std::vector<State> all;
-        for (std::size_t i = 0; i < p.size(); ++i) {
-            State s{record_of(p, i, first_id + p.id(i), first_id + static_cast<Index>(i)), {}, {}};
-            Vec<dim> x = p.position()[i];
-            box_.wrap(x);  // as the serial engine does before its first step
-            for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = resume ? double(p.force()[i][a]) : 0.0;
-            if (resume) s.torque = record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]));
-            all.push_back(s);
-        }
-        SearchState<dim, typename Sim::Scalar> search = whole.search_state();
-        order_ = SerialOrder(comm_.comm(), whole.auto_sort(), total >= Sim::auto_sort_min_particles, search.sorted_gap,
-                             whole.spatial_sorts());
-        SpringsByPair<History> springs, wall_springs;
-        if (resume) {
-            start_search_.emplace(search);  // by global id (whole: the particle's id)
-            for (std::size_t i = 0; i < p.size(); ++i) start_search_->particles[p.id(i)] = search.particles[i];
-            whole.visit_pair_histories([&](Index i, Index j, const History& h) {
-                const auto spring = PairSpring<History>::of(p.id(i), p.id(j), h);
-                springs.emplace(std::pair{spring.a, spring.b}, spring.h);
-            });
-            if constexpr (Sim::has_walls)
-                whole.visit_wall_histories([&](Index i, Index w, const History& h) { wall_springs.emplace(std::pair{p.id(i), w}, h); });
-        }
-        if (share)
-            all = to_owners(comm_.comm(), comm_.size(), all, [&](const State& st) {
-                return comm_.owner(vector_of_record<dim>(st.r.x));
-            });
-        distribute(all, springs, wall_springs, resume ? Stage::resume : Stage::fresh);
-    }
+    DistributedRun(MPI_Comm parent, const Sim& whole, Start start = Start::fresh, Input input = Input::whole,
+                   Split split = Split::balanced);
 
     const CartesianComm<dim>& comm() const { return comm_; }
     /// The whole scene's box.
@@ -347,6 +295,9 @@ private:
     void build(std::vector<const State*>& own_states, const std::vector<Index>& places);
     /// At a resumed start: the scene's neighbour-list references for this rank's engine.
     void take_start_search();
+    /// The start's boundaries (set_balance) from the particles of `all` (a share's: added over
+    /// the ranks).
+    void balance_start(const std::vector<State>& all, bool share);
 
     /// After the engine's prepare(), which builds its lists: the walls' serial sums are arranged
     /// anew at the next sum.
@@ -391,6 +342,7 @@ private:
     double skin_, dt_, width_ = 0.0, time_;
     std::size_t steps_;
     bool track_;                               // energy books, as the scene's
+    bool balance_;                             // Split::balanced
     std::optional<OpenBooks> books_at_start_;  // a scene's that has run (rank 0's; the others' zero)
 };
 

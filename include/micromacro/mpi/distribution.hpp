@@ -1,8 +1,9 @@
 #pragma once
-// DistributedRun's hand-over of particles between ranks: redistribute() sends the particles that
-// left a rank's subdomain to their new owners with their springs, distribute() builds a rank's
-// engine on the particles it owns and the ghosts of its new halo, searching where the serial
-// engine searches (its sorts followed, a resumed scene's references taken over).
+// DistributedRun's hand-over of particles between ranks: the constructor splits the scene,
+// redistribute() sends the particles that left a rank's subdomain to their new owners with their
+// springs (the split's boundaries moved to the particles first, mpi/balance.hpp), distribute()
+// builds a rank's engine on the particles it owns and the ghosts of its new halo, searching where
+// the serial engine searches (its sorts followed, a resumed scene's references taken over).
 #include <algorithm>
 #include <array>
 #include <cstddef>
@@ -16,9 +17,73 @@
 namespace micromacro::mpi {
 
 template <class Sim>
+inline DistributedRun<Sim>::DistributedRun(MPI_Comm parent, const Sim& whole, Start start, Input input, Split split)
+    : comm_(parent, split_box(whole, input == Input::share ? parent : MPI_COMM_NULL)), box_(whole.domain()), law_(whole.law()),
+      walls_(whole.walls()),
+      forces_(detail::EngineParts<Sim>::forces_of(whole)), follows_(following_axes(whole)), skin_(whole.skin()),
+      dt_(whole.time_step()), time_(whole.time()), steps_(whole.steps_done()), track_(whole.track_energy()),
+      balance_(split == Split::balanced) {
+    const auto& p = whole.particles();
+    const bool resume = start == Start::resume, share = input == Input::share;
+    if (!share && steps_ > 0)  // the books of a scene that has run go on, on rank 0
+        books_at_start_ = comm_.rank() == 0 ? whole.open_books() : whole.open_books().without_bookings();
+    if (resume && share)
+        micromacro::detail::throw_input_error("DistributedRun: a resumed run starts from the whole scene on every rank (its springs "
+                                              "span the shares); use Input::whole, as mpi::whole_scene gives it");
+    if (resume && !whole.prepared())
+        micromacro::detail::throw_input_error("DistributedRun: Start::resume keeps the scene's last forces, but they are not the "
+                                              "present scene's (never prepared, or particles, law, time step or skin changed "
+                                              "since); call its prepare() first, or use Start::fresh");
+    if constexpr (Sim::has_walls) check_wall_areas(walls_, comm_.split());  // before an engine measures them
+    Index first_id = 0;  // of this rank's share
+    std::size_t total = p.size();
+    if (share) {
+        // The skin and halo from every share's radii; the ids after the earlier ranks' shares.
+        const ShareSizes all = share_sizes(comm_.comm(), parent, p.radius());
+        if (!(skin_ > 0.0)) skin_ = default_skin(all.radius_sum, all.count);
+        width_ = interaction_range(all.largest_radius, skin_);
+        first_id = all.first_id;
+        total = static_cast<std::size_t>(all.count);
+    } else {
+        if (!(skin_ > 0.0)) skin_ = default_skin(p.radius());
+        width_ = interaction_range(p.radius(), skin_);
+    }
+    std::vector<State> all;
+    for (std::size_t i = 0; i < p.size(); ++i) {
+        State s{record_of(p, i, first_id + p.id(i), first_id + static_cast<Index>(i)), {}, {}};
+        Vec<dim> x = p.position()[i];
+        box_.wrap(x);  // as the serial engine does before its first step
+        for (int a = 0; a < dim; ++a) s.r.x[a] = x[a], s.force[a] = resume ? double(p.force()[i][a]) : 0.0;
+        if (resume) s.torque = record_angular<dim>(convert<double>(p.template get<field::Torque>()[i]));
+        all.push_back(s);
+    }
+    SearchState<dim, typename Sim::Scalar> search = whole.search_state();
+    order_ = SerialOrder(comm_.comm(), whole.auto_sort(), total >= Sim::auto_sort_min_particles, search.sorted_gap,
+                         whole.spatial_sorts());
+    SpringsByPair<History> springs, wall_springs;
+    if (resume) {
+        start_search_.emplace(search);  // by global id (whole: the particle's id)
+        for (std::size_t i = 0; i < p.size(); ++i) start_search_->particles[p.id(i)] = search.particles[i];
+        whole.visit_pair_histories([&](Index i, Index j, const History& h) {
+            const auto spring = PairSpring<History>::of(p.id(i), p.id(j), h);
+            springs.emplace(std::pair{spring.a, spring.b}, spring.h);
+        });
+        if constexpr (Sim::has_walls)
+            whole.visit_wall_histories([&](Index i, Index w, const History& h) { wall_springs.emplace(std::pair{p.id(i), w}, h); });
+    }
+    balance_start(all, share);
+    if (share)
+        all = to_owners(comm_.comm(), comm_.size(), all, [&](const State& st) {
+            return comm_.owner(vector_of_record<dim>(st.r.x));
+        });
+    distribute(all, springs, wall_springs, resume ? Stage::resume : Stage::fresh);
+}
+
+template <class Sim>
 inline void DistributedRun<Sim>::redistribute() {
     const auto& p = local_->particles();
     follow_extent<dim>(comm_, p, owned_, follows_);  // where walls alone bound the box
+    if (balance_) balance_split<dim>(comm_, owned_, [&](std::size_t i, int a) { return double(p.position()[i][a]); }, width_, true);
     std::vector<State> states;
     for (std::size_t i = 0; i < owned_; ++i) {
         State s{record_of(p, i, global_[i], place_[i]), {}, record_angular<dim>(p.template get<field::Torque>()[i])};
@@ -135,6 +200,14 @@ inline void DistributedRun<Sim>::build(std::vector<const State*>& own_states, co
     if constexpr (Sim::has_walls) local_->keep_wall_terms(serial_wall_sums_);
     local_->set_clock(time_, steps_);  // a strain-controlled wall's motion reads it
     local_->prepare();                 // the lists (and forces, replaced by distribute() unless fresh)
+}
+
+template <class Sim>
+inline void DistributedRun<Sim>::balance_start(const std::vector<State>& all, bool share) {
+    if (!balance_) return;
+    const auto& dims = comm_.split().dims;  // the split is not handed out yet: every boundary may move all the way
+    balance_split<dim>(comm_, all.size(), [&](std::size_t i, int a) { return all[i].r.x[a]; }, width_, share,
+                       *std::max_element(dims.begin(), dims.end()));
 }
 
 template <class Sim>
