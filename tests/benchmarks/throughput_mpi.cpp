@@ -38,7 +38,7 @@ struct Options {
     double density = 2000.0;
     std::string packing;                                                  // a file instead of the lattice
     mm::io::PackingFormat format = mm::io::PackingFormat::csv;
-    bool json = false, no_energy = false;
+    bool json = false, no_energy = false, equal_slabs = false;
 };
 
 template <int dim>
@@ -50,7 +50,8 @@ int run(const Options& o) {
     for (std::size_t i = 0; i < x.size(); ++i) whole.particles().add(x[i], r[i], mm::sphere_mass(o.density, r[i]));
     whole.set_time_step(benchmark::mean_contact_duration(r, o.density, o.k, o.gamma_n) / 50);
     whole.set_track_energy(!o.no_energy);
-    mm::mpi::DistributedRun run(MPI_COMM_WORLD, whole);
+    using Run = mm::mpi::DistributedRun<decltype(whole)>;
+    Run run(MPI_COMM_WORLD, whole, Run::Start::fresh, Run::Input::whole, o.equal_slabs ? Run::Split::equal : Run::Split::balanced);
     MPI_Barrier(MPI_COMM_WORLD);
     const auto start = std::chrono::steady_clock::now();
     run.run(o.steps);
@@ -69,6 +70,7 @@ int run(const Options& o) {
     const auto& dims = run.comm().split().dims;
     std::string split = std::to_string(dims[0]);
     for (int a = 1; a < dim; ++a) split += "x" + std::to_string(dims[a]);
+    split += o.equal_slabs ? ", equal slabs" : ", balanced";
     if (o.json)
         std::printf("{\"dim\": %d, \"particles\": %zu, \"steps\": %zu, \"ranks\": %d, \"split\": \"%s\", \"seconds\": %.6g, "
                     "\"particle_steps_per_second\": %.6g, \"per_rank\": %.6g, \"halo_bytes_per_particle_step\": %.4g, "
@@ -105,6 +107,7 @@ int main(int argc, char** argv) {
     app.add_option("--kt", o.kt, "tangential stiffness (N/m)")->capture_default_str();
     app.add_option("--gamma-t", o.gamma_t, "tangential damping (kg/s)")->capture_default_str();
     app.add_option("--mu", o.mu, "friction coefficient")->capture_default_str();
+    app.add_flag("--equal-slabs", o.equal_slabs, "split the box into equal slabs (DistributedRun::Split::equal) instead of slabs of equal shares");
     app.add_flag("--json", o.json, "one JSON line instead of text");
     app.add_flag("--no-energy", o.no_energy, "without the energy books (on by default, as in the serial throughput)");
     // Every rank reads the same command line and refuses the same input: the first rank says so.
