@@ -4,7 +4,9 @@
 // the run continues on the same trajectory up to the round-off of another summation order.
 // Built with MICROMACRO_FMA (fused multiply-adds) a contact's arithmetic is not symmetric in its
 // two particles (a b + c d fuses one product or the other), and a swapped pair's force and
-// energy agree to round-off instead of to the bit.
+// energy agree to round-off instead of to the bit. The engine sorts on its own from 2048
+// particles; a scene assembled elsewhere takes over when the next neighbour search falls
+// (search_state).
 #define BOOST_TEST_MODULE unit_spatial_order
 #include <boost/test/unit_test.hpp>
 
@@ -257,4 +259,47 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(pairs_in_the_order_of_keys_sum_as_that_numbering_d
     std::iota(twice.begin(), twice.end(), std::uint64_t{0});
     twice[7] = 3;
     mmtest::expect_error([&] { sorted.set_pair_order(twice); }, {"the key 3", "two particles"});
+}
+
+// What the next neighbour search waits on (search_state) goes to a scene assembled elsewhere:
+// a copy whose lists were built again (prepare()) well after the original's last search searches
+// at other steps; given the original's state it searches at the original's steps, and sorts as
+// often. Sizes are checked.
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_search_state_carries_the_searches, D, Dims) {
+    constexpr int dim = D::value;
+    auto original = shaken_walled_packing<dim>(3000, 7, 0.03);
+    original.prepare();
+    std::size_t quiet = 0;  // steps since the original's last search
+    for (int s = 0; s < 2000 && quiet < 5; ++s) {
+        const std::size_t before = original.neighbor_rebuilds();
+        original.step();
+        quiet = original.neighbor_rebuilds() == before ? quiet + 1 : 0;
+    }
+    BOOST_TEST_REQUIRE(quiet == 5u);
+    const auto state = original.search_state();
+    auto rebuilt = original, carried = original;
+    rebuilt.prepare();  // the lists built again now: searches count from here
+    carried.prepare();
+    carried.restore_search_state(state);
+    auto searches = [](auto& sim) {  // the steps at which the next 400 steps search
+        std::vector<std::size_t> at;
+        for (int s = 0; s < 400; ++s) {
+            const std::size_t before = sim.neighbor_rebuilds();
+            sim.step();
+            if (sim.neighbor_rebuilds() != before) at.push_back(sim.steps_done());
+        }
+        return at;
+    };
+    const auto at_original = searches(original), at_rebuilt = searches(rebuilt), at_carried = searches(carried);
+    BOOST_TEST_MESSAGE(dim << "D: " << at_original.size() << " searches in 400 steps; the first at step "
+                           << (at_original.empty() ? 0 : at_original.front()) << ", the rebuilt copy's at "
+                           << (at_rebuilt.empty() ? 0 : at_rebuilt.front()));
+    BOOST_TEST_REQUIRE(at_original.size() > 2u);
+    BOOST_TEST(at_carried == at_original, boost::test_tools::per_element());
+    BOOST_TEST((at_rebuilt != at_original), "the copy built again searches elsewhere: else the test would not see the state");
+    BOOST_TEST(carried.spatial_sorts() == original.spatial_sorts());
+
+    auto wrong = state;
+    wrong.particles.pop_back();
+    mmtest::expect_error([&] { carried.restore_search_state(wrong); }, {"positions of 2999 particles", "3000 particles", "prepare()"});
 }
