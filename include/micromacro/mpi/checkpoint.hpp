@@ -97,7 +97,8 @@ Sim whole_scene(const DistributedRun<Sim>& run) {
     whole.prepare();  // the lists; its forces, springs, books and references are replaced below
     // Its next neighbour search and sort where the run's would be.
     SearchState<dim, typename Sim::Scalar> references{{}, search.walls, search.sorted_gap};
-    for (const auto* q : by_id) references.particles.push_back(vector_of_record<dim>(q->reference).template cast<typename Sim::Scalar>());
+    for (const auto* q : by_id)
+        references.particles.push_back(vector_of_record<dim>(q->reference).template cast<typename Sim::Scalar>());
     whole.restore_search_state(std::move(references));
     whole.set_auto_sort(run.auto_sort());
     SpringsByPair<History> spring_of;

@@ -18,6 +18,7 @@
 //
 // The places in the serial numbering follow the serial engine's sorts (mpi/serial_order.hpp), and
 // a resumed run takes over the scene's neighbour-list references: the ranks search where it would.
+// The slabs' boundaries follow the particles (Split::balanced, mpi/balance.hpp).
 //
 // Walls: every rank holds every wall, and a particle's wall contacts are its owner's (a ghost
 // has none). After each force evaluation the walls' forces are summed over the ranks, on every
