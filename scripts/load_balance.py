@@ -6,14 +6,18 @@
 Reads the particle frames of a `biaxial` run (RUN_DIR/vtk/particles.pvd, written with
 --vtk-every) and, for each rank count (default 2 4 8), splits the box into equal slabs per axis as
 mpi::DistributedRun does (MPI_Dims_create's counts, the most slabs along the longest axis of the
-first frame's extent, of equal ones the last) in two ways:
-  fixed:     over the particles' extent in the first frame, kept (particles outside it belong to
-             the end slabs);
-  following: over the particles' extent in each frame (what DistributedRun does along the axes
-             that walls alone bound, at every redistribution).
+first frame's extent, of equal ones the last) in three ways:
+  fixed:     equal slabs over the particles' extent in the first frame, kept (particles outside
+             it belong to the end slabs);
+  following: equal slabs over the particles' extent in each frame (what DistributedRun does with
+             Split::equal along the axes that walls alone bound, at every redistribution);
+  balanced:  in each frame each boundary where an equal share of the particles' centres lies
+             below it along its axis (what DistributedRun does by default, Split::balanced, up
+             to its histogram's bins).
 It prints, per frame, the strain eps_zz and the imbalance max/mean - 1 of the particles per rank,
 and the largest imbalance over the run. Needs Debian's python3-vtk9 (hence /usr/bin/python3).
 """
+import bisect
 import os
 import sys
 import xml.etree.ElementTree as ET
@@ -60,6 +64,24 @@ def counts(x, lo, hi, dims):
     return c
 
 
+def balanced_counts(x, dims):
+    """Particles per rank with each axis's boundaries at the quantiles of the centres."""
+    cuts = []
+    for a, d in enumerate(dims):
+        coords = sorted(p[a] for p in x)
+        cuts.append([coords[min(len(coords) - 1, (c * len(coords)) // d)] for c in range(1, d)])
+    total = 1
+    for d in dims:
+        total *= d
+    c = [0] * total
+    for p in x:
+        cell = 0
+        for a, d in enumerate(dims):
+            cell = cell * d + bisect.bisect_right(cuts[a], p[a])
+        c[cell] += 1
+    return c
+
+
 def imbalance(c):
     return max(c) / (sum(c) / len(c)) - 1.0
 
@@ -94,19 +116,21 @@ def main():
     first_lo, first_hi = extent(frames[0][1], frames[0][2], dim)
     print(f"{run}: {dim}D, {len(frames[0][2])} particles, {len(frames)} frames")
     split = {R: dims_for(R, dim, first_lo, first_hi) for R in ranks}
-    header = "eps_zz " + " ".join(f"{R}({'x'.join(map(str, split[R]))}):fixed/following" for R in ranks)
+    header = "eps_zz " + " ".join(f"{R}({'x'.join(map(str, split[R]))}):fixed/following/balanced" for R in ranks)
     print(header)
-    worst = {R: [0.0, 0.0] for R in ranks}
+    worst = {R: [0.0, 0.0, 0.0] for R in ranks}
     for strain, x, r in frames:
         lo, hi = extent(x, r, dim)
         cells = []
         for R in ranks:
             dims = split[R]
             fixed, following = imbalance(counts(x, first_lo, first_hi, dims)), imbalance(counts(x, lo, hi, dims))
-            worst[R] = [max(worst[R][0], fixed), max(worst[R][1], following)]
-            cells.append(f"{fixed:.3f}/{following:.3f}")
+            balanced = imbalance(balanced_counts(x, dims))
+            worst[R] = [max(worst[R][0], fixed), max(worst[R][1], following), max(worst[R][2], balanced)]
+            cells.append(f"{fixed:.3f}/{following:.3f}/{balanced:.3f}")
         print(f"{strain:.3f} " + " ".join(cells))
-    print("largest imbalance, fixed / following: " + ", ".join(f"{R} ranks {w[0]:.3f} / {w[1]:.3f}" for R, w in worst.items()))
+    print("largest imbalance, fixed / following / balanced: " +
+          ", ".join(f"{R} ranks {w[0]:.3f} / {w[1]:.3f} / {w[2]:.3f}" for R, w in worst.items()))
 
 
 if __name__ == "__main__":

@@ -26,7 +26,7 @@
 // numbers everywhere, and by the serial run's; a wall contact's spring travels with its
 // particle. Along an axis the scene leaves unbounded (walls alone bound the biaxial test's box)
 // the split is the particles' extent, taken again at every redistribution, so that the slabs
-// keep equal shares of a box the walls deform.
+// follow a box the walls deform.
 //
 // Energy books (with the scene's set_track_energy, on by default): each rank's engine books its
 // own particles' body forces and wall contacts, half of each pair with a ghost (the ghost's owner
