@@ -49,8 +49,8 @@ def dims_for(ranks, dim, lo, hi):
     return dims
 
 
-def counts(x, lo, hi, dims):
-    """Particles per rank: slab index per axis (clamped to the end slabs), then per cell."""
+def cell_counts(x, dims, slab):
+    """Particles per rank: slab(a, coordinate) along each axis, then per cell."""
     total = 1
     for d in dims:
         total *= d
@@ -58,10 +58,14 @@ def counts(x, lo, hi, dims):
     for p in x:
         cell = 0
         for a, d in enumerate(dims):
-            slab = min(max(int((p[a] - lo[a]) / (hi[a] - lo[a]) * d // 1), 0), d - 1)
-            cell = cell * d + slab
+            cell = cell * d + slab(a, p[a])
         c[cell] += 1
     return c
+
+
+def counts(x, lo, hi, dims):
+    """Particles per rank over equal slabs of lo..hi (clamped to the end slabs)."""
+    return cell_counts(x, dims, lambda a, v: min(max(int((v - lo[a]) / (hi[a] - lo[a]) * dims[a] // 1), 0), dims[a] - 1))
 
 
 def balanced_counts(x, dims):
@@ -70,16 +74,7 @@ def balanced_counts(x, dims):
     for a, d in enumerate(dims):
         coords = sorted(p[a] for p in x)
         cuts.append([coords[min(len(coords) - 1, (c * len(coords)) // d)] for c in range(1, d)])
-    total = 1
-    for d in dims:
-        total *= d
-    c = [0] * total
-    for p in x:
-        cell = 0
-        for a, d in enumerate(dims):
-            cell = cell * d + bisect.bisect_right(cuts[a], p[a])
-        c[cell] += 1
-    return c
+    return cell_counts(x, dims, lambda a, v: bisect.bisect_right(cuts[a], v))
 
 
 def imbalance(c):

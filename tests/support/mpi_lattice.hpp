@@ -78,10 +78,10 @@ auto sorting_lattice(std::optional<std::pair<int, int>> sort_within = std::nullo
     for (auto& v : scene.particles().velocity()) v *= 8.0;
     if (!sort_within) return scene;
     scene.prepare();
-    auto gap = [](const auto& sim) {
-        double sum = 0.0, count = 0.0;
-        sim.visit_pair_histories([&](mm::Index i, mm::Index j, const auto&) { sum += double(j) - double(i), ++count; });
-        return sum / count;
+    auto gap = [](const auto& sim) {  // the engine's own measure of its candidates
+        std::vector<mm::IndexPair> pairs;
+        sim.visit_pair_histories([&](mm::Index i, mm::Index j, const auto&) { pairs.push_back({i, j}); });
+        return mm::mean_index_gap(pairs);
     };
     auto probe = scene;
     double before = gap(probe), within = 0.0;

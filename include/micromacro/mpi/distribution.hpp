@@ -132,11 +132,11 @@ inline void DistributedRun<Sim>::distribute(const std::vector<State>& all, const
         take_start_search();
     } else {  // a search where the serial engine searches: where it sorts, built again in its new order
         auto pairs = [&](auto&& f) { local_->visit_pair_histories([&](Index i, Index j, const History&) { f(i, j); }); };
-        auto gap = [&] { return SerialOrder::mean_gap(comm_.comm(), pairs, [&](Index i) { return place_[i]; }, owned_); };
+        auto place_of = [&](Index i) { return place_[i]; };
+        auto gap = [&] { return SerialOrder::mean_gap(comm_.comm(), pairs, place_of, owned_); };
         if (order_.at_search(gap) == OrderAction::sort) {
             const auto& p = local_->particles();
-            build(own_states, SerialOrder::sorted_places(comm_.comm(), box_, p.position(), p.radius(),
-                                                         [&](Index i) { return place_[i]; }, owned_));
+            build(own_states, SerialOrder::sorted_places(comm_.comm(), box_, p.position(), p.radius(), place_of, owned_));
             order_.sorted(*gap());
         }
     }
