@@ -125,4 +125,14 @@ BOOST_AUTO_TEST_CASE(balanced_cuts_give_each_slab_an_equal_share) {
         }
         BOOST_TEST(owners == 1);
     }
+    // Slabs narrower than the halo leave a cut no room between its bounds: refused as by
+    // check_halo, naming the equal slabs (0.25 m) before any cut moves.
+    const auto equal = mm::mpi::CartesianSplit<2>::of(box, {4, 1}, {0, 0});
+    try {
+        (void)equal.balanced_cuts(0, counts, 0.3);
+        BOOST_FAIL("balanced cuts with a halo of 0.3 m across 0.25 m slabs were given");
+    } catch (const mm::InputError& e) {
+        const std::string m = e.what();
+        BOOST_TEST(m.find("0.25 m slabs along axis 0") != std::string::npos, m);
+    }
 }

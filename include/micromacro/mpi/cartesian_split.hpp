@@ -92,8 +92,10 @@ struct CartesianSplit {
     /// fractions for `cuts`. Each cut stays a halo `width` inside the present boundaries on its
     /// either side, and a width above the cut below it: so a slab stays at least a halo wide,
     /// and a particle that moves less than a halo width goes at most one slab on, as the
-    /// exchanges between neighbouring ranks need.
+    /// exchanges between neighbouring ranks need. The present slabs must be a halo wide
+    /// (check_halo, refused with its message): else a cut would have no room between its bounds.
     std::vector<double> balanced_cuts(int a, const std::vector<double>& counts, double width) const {
+        check_halo(width);
         double total = 0.0;
         for (double c : counts) total += c;
         const double L = hi[a] - lo[a], bin = L / double(counts.size());

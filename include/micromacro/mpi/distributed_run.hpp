@@ -296,8 +296,8 @@ private:
     void build(std::vector<const State*>& own_states, const std::vector<Index>& places);
     /// At a resumed start: the scene's neighbour-list references for this rank's engine.
     void take_start_search();
-    /// The start's boundaries (set_balance) from the particles of `all` (a share's: added over
-    /// the ranks).
+    /// The start's boundaries (Split::balanced) from the particles of `all` (a share's: added
+    /// over the ranks).
     void balance_start(const std::vector<State>& all, bool share);
 
     /// After the engine's prepare(), which builds its lists: the walls' serial sums are arranged
