@@ -17,6 +17,7 @@
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/index.hpp"
 #include "micromacro/core/inline.hpp"
+#include "micromacro/core/roots.hpp"
 #include "micromacro/engine/contact_response.hpp"
 
 namespace micromacro::detail {
@@ -136,15 +137,18 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
     EnergyBooks account = books;
     // Three passes per block of candidates: find the touching pairs (branch-free, the 20-30%
     // of candidates that do not touch would otherwise be a badly predicted jump), take their
-    // square roots and reciprocals as Eigen packets, then compute their forces. The square
-    // root and division of each contact sat in one chain with its force and stalled the
-    // single loop; in packets they pipeline two (SSE2) or four (AVX) at a time. The arithmetic
-    // and the order of the sums are unchanged.
+    // square roots and reciprocals together (core/roots.hpp), then compute their forces. The
+    // square root and division of each contact sat in one chain with its force and stalled the
+    // single loop; as packets they pipeline two to eight at a time. The arithmetic and the
+    // order of the sums are unchanged.
     constexpr std::size_t block = 128;
     std::array<std::uint32_t, block> touching;
     [[maybe_unused]] std::array<std::uint32_t, block> opened;
     std::array<V, block> separation;
-    std::array<double, block> separation_sq, distance, inverse_distance;
+    // Aligned to cache lines, so that roots_and_reciprocals reads and writes whole lines; the
+    // squares initialised, for the lanes it computes past a block's last contact.
+    alignas(64) std::array<double, block> separation_sq{};
+    alignas(64) std::array<double, block> distance, inverse_distance;
     for (std::size_t b0 = begin; b0 < end; b0 += block) {
         const std::size_t b1 = std::min(end, b0 + block);
         std::size_t count = 0, open = 0;
@@ -171,12 +175,7 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
                 else
                     h = History{};
             }
-        {  // square roots and reciprocals two or four at a time (Eigen's packets)
-            using Column = Eigen::Array<double, Eigen::Dynamic, 1>;
-            Eigen::Map<Column> dist(distance.data(), count), inverse(inverse_distance.data(), count);
-            dist = Eigen::Map<const Column>(separation_sq.data(), count).sqrt();
-            inverse = dist.inverse();
-        }
+        roots_and_reciprocals(separation_sq, distance, inverse_distance, count);
         for (std::size_t k = 0; k < count; ++k) {
             const std::size_t c = b0 + touching[k];
             const auto [i, j] = pair[c];
