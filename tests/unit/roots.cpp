@@ -1,7 +1,7 @@
 // core/roots.hpp gives each number's square root and its reciprocal exactly as the scalar
-// std::sqrt and 1 / std::sqrt do (both correctly rounded), at every count: the whole packets of
-// the AVX-512 path, the lanes it computes past the count and the Eigen path agree with the plain
-// arithmetic bit for bit.
+// std::sqrt and 1 / std::sqrt do (both correctly rounded), at every count: the AVX-512 path's
+// whole packets and the Eigen path agree with the plain arithmetic bit for bit. Built twice
+// (tests/CMakeLists.txt): as the build is, and without AVX-512.
 #define BOOST_TEST_MODULE unit_roots
 #include <boost/test/unit_test.hpp>
 

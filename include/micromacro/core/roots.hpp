@@ -20,7 +20,7 @@ namespace micromacro::detail {
 /// a time, in whole packets: the entries from count to the next multiple of 8 are computed too,
 /// from whatever `square` holds there (so it must be initialised; the arrays' capacity is a
 /// multiple of 8). Masking the last packet instead ran the 3D pair loop 0.98x on a CPU with
-/// 512-bit units (masked stores are slow there); the 512-bit packets themselves gave it 1.03x
+/// 512-bit units (its masked stores, presumably); the 512-bit packets themselves gave it 1.03x
 /// (docs/performance.md). Without AVX-512, Eigen's packets, two or four at a time.
 template <std::size_t capacity>
 inline void roots_and_reciprocals(const std::array<double, capacity>& square, std::array<double, capacity>& root,
