@@ -455,7 +455,7 @@ int main(int argc, char** argv) {
            << "|sigma_wall_22 / sigma_22 - 1| (wall stress "
            << "against the inner box's contact stress). Residual: the energy books' residual at the end (relative to the "
            << "work put in). Seconds: one run's wall time (" << jobs << " run" << (jobs > 1 ? "s" : "")
-           << " at a time). Float: the particle state stored in float, every force computed in double "
+           << " at a time). Float: the particle state stored in float, every force computed and summed in double "
            << "(`BasicSimulation<dim, float, ...>`); positions of a 3.5 cm box then resolve 2e-9 m against overlaps of ~4e-7 m.\n\n"
            << "| group | setting | seconds | particle-steps | peak stress ratio | eps_zz at peak | max deviatoric fabric | "
               "C_n_2222 at peak (N/m) | wall gap | residual |\n"

@@ -27,8 +27,8 @@ namespace micromacro::detail {
 template <int dim, class Real, bool rotation>
 struct Spill {
     Index particle;
-    Vec<dim, Real> force;
-    [[no_unique_address]] std::conditional_t<rotation, Angular<dim, Real>, NoHistory> torque;
+    Vec<dim> force;
+    [[no_unique_address]] std::conditional_t<rotation, Angular<dim>, NoHistory> torque;
 };
 
 /// The stored arrays the pair and wall loops read, as raw pointers: the particles' (`w` null
@@ -66,20 +66,20 @@ MICROMACRO_INLINE ContactKinematics<dim> pair_kinematics(const ContactLoopInput<
 
 /// Adds force f and torque arm contributions of one pair to i, and to j if this share owns it.
 template <int dim, class Real, bool rotation>
-MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim, Real>& stored, [[maybe_unused]] const Angular<dim>& arm,
-                                      double ri, double rj, Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque,
+MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim>& stored, [[maybe_unused]] const Angular<dim>& arm,
+                                      double ri, double rj, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
                                       Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill) {
     using A = Angular<dim>;
     f[i] += stored;
-    if constexpr (rotation) torque[i] -= convert<Real>(A(ri * arm));  // torque on i is (-a_i n) x f_t
+    if constexpr (rotation) torque[i] -= A(ri * arm);  // torque on i is (-a_i n) x f_t
     if (j < owned_end) [[likely]] {
         f[j] -= stored;
-        if constexpr (rotation) torque[j] -= convert<Real>(A(rj * arm));
+        if constexpr (rotation) torque[j] -= A(rj * arm);
     } else {  // another thread's particle: added by its owner after the loop
         auto& s = spill.emplace_back();
         s.particle = j;
         s.force = stored;
-        if constexpr (rotation) s.torque = convert<Real>(A(rj * arm));
+        if constexpr (rotation) s.torque = A(rj * arm);
     }
 }
 
@@ -89,7 +89,7 @@ MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim, Real>& st
 /// in thousands per step comes here.
 template <bool periodic, bool rotation, int dim, class Real, class Law, class History>
 MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law, double dt,
-                                 IndexPair p, const History& h, Vec<dim, Real>* f, Angular<dim, Real>* torque, Index owned_end,
+                                 IndexPair p, const History& h, Vec<dim>* f, Angular<dim>* torque, Index owned_end,
                                  std::vector<Spill<dim, Real, rotation>>& spill) {
     using V = Vec<dim>;
     const auto [i, j] = p;
@@ -100,7 +100,7 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
     const V force = law.opening_force(pair_kinematics<rotation>(in, i, j, n, dist, dt), h);
     Angular<dim> arm{};
     if constexpr (rotation) arm = DimTraits<dim>::cross(n, force);
-    add_pair_force<dim, Real, rotation>(i, j, convert<Real>(force), arm, double(in.r[i]), double(in.r[j]), f, torque, owned_end,
+    add_pair_force<dim, Real, rotation>(i, j, force, arm, double(in.r[i]), double(in.r[j]), f, torque, owned_end,
                                         spill);
 }
 
@@ -117,7 +117,7 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
 /// the box has a periodic axis (else separations are plain differences).
 template <bool track, bool periodic, bool rotation, bool weighed, int dim, class Real, class Law, class History>
 void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
-               std::size_t begin, std::size_t end, Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque,
+               std::size_t begin, std::size_t end, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
                EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill,
                std::vector<std::size_t>& opened_contacts) {
     using V = Vec<dim>;
@@ -207,7 +207,7 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
             const ContactResponse<dim> resp = respond<track>(law, kinematics, h, account, false, weight);
             Angular<dim> arm{};
             if constexpr (rotation) arm = DimTraits<dim>::cross(n, resp.tangential);
-            add_pair_force<dim, Real, rotation>(i, j, convert<Real>(resp.force), arm, ri, rj, f, torque, owned_end, spill);
+            add_pair_force<dim, Real, rotation>(i, j, resp.force, arm, ri, rj, f, torque, owned_end, spill);
         }
     }
     // The rest of the impulses of contacts that opened, after every contact's force: so each

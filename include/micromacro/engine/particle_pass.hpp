@@ -18,13 +18,13 @@ template <int dim, class Real>
 struct ParticleArrays {
     Vec<dim, Real>* x;
     Vec<dim, Real>* v;
-    Vec<dim, Real>* f;
+    Vec<dim>* f;
     const Real* inv_m;
     Angular<dim, Real>* w;
-    Angular<dim, Real>* torque;
+    Angular<dim>* torque;
     const Real* inv_I;
-    Vec<dim, Real>* f_old;
-    Angular<dim, Real>* torque_old;
+    Vec<dim>* f_old;
+    Angular<dim>* torque_old;
     const Vec<dim, Real>* reference;  ///< positions at the last neighbour search
     std::size_t n;
 };
@@ -65,13 +65,13 @@ std::pair<double, double> kick_drift_pass(const ParticleArrays<dim, Real>& a, co
     using SV = Vec<dim, Real>;
     SV* x = a.x;
     SV* v = a.v;
-    SV* f = a.f;
+    V* f = a.f;
     const Real* inv_m = a.inv_m;
     [[maybe_unused]] Angular<dim, Real>* w = a.w;
-    [[maybe_unused]] Angular<dim, Real>* torque = a.torque;
+    [[maybe_unused]] A* torque = a.torque;
     [[maybe_unused]] const Real* inv_I = a.inv_I;
-    [[maybe_unused]] SV* f_old = a.f_old;
-    [[maybe_unused]] Angular<dim, Real>* torque_old = a.torque_old;
+    [[maybe_unused]] V* f_old = a.f_old;
+    [[maybe_unused]] A* torque_old = a.torque_old;
     const SV* reference = a.reference;
     const std::size_t n = a.n;
     // A local copy: the stores to x and v could alias the caller's box, which the compiler would
@@ -95,8 +95,8 @@ std::pair<double, double> kick_drift_pass(const ParticleArrays<dim, Real>& a, co
                     wi = force_change_kick(wi, h_closing * double(inv_I[i]), convert<double>(torque[i]),
                                            convert<double>(torque_old[i]));
             }
-            f_old[i] = SV::Zero();  // becomes the force array at the next force evaluation
-            if constexpr (rotation) torque_old[i] = zero_angular<dim, Real>();
+            f_old[i] = V::Zero();  // becomes the force array at the next force evaluation
+            if constexpr (rotation) torque_old[i] = zero_angular<dim, double>();
         }
         const V acc = double(inv_m[i]) * fi;
         vi += h_before * acc;
@@ -118,9 +118,9 @@ std::pair<double, double> kick_drift_pass(const ParticleArrays<dim, Real>& a, co
         sum_move_sq += move_sq;
         if constexpr (rotation) {
             w[i] = convert<Real>(A(wi + (h_before + h_after) * double(inv_I[i]) * convert<double>(torque[i])));
-            if constexpr (!keeps_previous_forces) torque[i] = zero_angular<dim, Real>();
+            if constexpr (!keeps_previous_forces) torque[i] = zero_angular<dim, double>();
         }
-        if constexpr (!keeps_previous_forces) f[i] = SV::Zero();  // read for the last time
+        if constexpr (!keeps_previous_forces) f[i] = V::Zero();  // read for the last time
     }
     return {max_move_sq, sum_move_sq};
 }

@@ -44,10 +44,11 @@
 namespace micromacro {
 
 /// The engine. `Real` is the storage precision of the particle state (positions, velocities,
-/// forces, radii, masses): every force and update is computed in double, and with float each
-/// stored value is rounded to float, which halves the particles' memory and its traffic but
-/// resolves positions only to ~6e-8 of their magnitude (prepare() checks that against the
-/// radii). Contact springs, walls and energies stay double. `Simulation` is the double engine.
+/// radii, masses): every force and update is computed in double, and with float each stored
+/// value is rounded to float, which halves the state's memory and its traffic but resolves
+/// positions only to ~6e-8 of their magnitude (prepare() checks that against the radii). Forces
+/// and torques (sums), contact springs, walls and energies stay double. `Simulation` is the
+/// double engine.
 template <int dim, class Real, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet,
           class Neighbors = LinkedCells, class... BodyForces>
 class BasicSimulation {
@@ -364,8 +365,8 @@ private:
     int threads_ = 1;
     detail::ThreadedPairLoop<dim, Real, rotation> pair_loop_;
     // Forces of the previous evaluation, for integrators that correct with the force change.
-    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<SV>, NoHistory> previous_force_;
-    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<SA>, NoHistory>
+    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces, std::vector<Vec<dim>>, NoHistory> previous_force_;
+    [[no_unique_address]] std::conditional_t<Integrator::keeps_previous_forces && rotation, std::vector<Angular<dim>>, NoHistory>
         previous_torque_;
     std::vector<double> wall_reference_;
     EnergyBooks books_, step_books_, previous_step_books_;

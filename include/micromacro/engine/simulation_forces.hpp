@@ -41,7 +41,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <bool track>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::pair_forces() -> void {
-    SA* torque = nullptr;
+    Angular<dim>* torque = nullptr;
     if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
     auto in = contact_input(pairs_);
     in.first_ghost = static_cast<Index>(owned_count());
@@ -56,13 +56,13 @@ template <bool track>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::compute_forces_impl() -> void {
     auto& f = particles_.template get<field::Force>();
     if (!accumulators_cleared_) {  // else kick_drift_kick() cleared them in its pass
-        f.assign(particles_.size(), SV::Zero());
-        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, Real>());
+        f.assign(particles_.size(), Vec<dim>::Zero());
+        if constexpr (rotation) particles_.template get<field::Torque>().assign(particles_.size(), zero_angular<dim, double>());
     }
     accumulators_cleared_ = false;
     pair_forces<track>();
     if constexpr (has_walls) {
-        SA* torque = nullptr;
+        Angular<dim>* torque = nullptr;
         if constexpr (rotation) torque = particles_.template get<field::Torque>().data();
         const auto in = contact_input(wall_contacts_);
         if (keeps_wall_terms_)

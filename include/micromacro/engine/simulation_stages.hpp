@@ -51,10 +51,10 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     for (std::size_t i = owned_count(); i < particles_.size(); ++i) {
         if constexpr (keep) {
             previous_force_[i].setZero();
-            if constexpr (rotation) previous_torque_[i] = zero_angular<dim, Real>();
+            if constexpr (rotation) previous_torque_[i] = zero_angular<dim, double>();
         } else {
             particles_.template get<field::Force>()[i].setZero();
-            if constexpr (rotation) particles_.template get<field::Torque>()[i] = zero_angular<dim, Real>();
+            if constexpr (rotation) particles_.template get<field::Torque>()[i] = zero_angular<dim, double>();
         }
     }
     accumulators_cleared_ = true;

@@ -85,8 +85,8 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if constexpr (has_walls) b += wall_contacts_.bytes();
     b += pair_loop_.bytes();
     if constexpr (Integrator::keeps_previous_forces) {
-        b += previous_force_.capacity() * sizeof(SV);
-        if constexpr (rotation) b += previous_torque_.capacity() * sizeof(SA);
+        b += previous_force_.capacity() * sizeof(Vec<dim>);
+        if constexpr (rotation) b += previous_torque_.capacity() * sizeof(Angular<dim>);
     }
     return b;
 }

@@ -36,7 +36,7 @@ inline void split_shares(const IndexPair* pair, std::size_t count, int shares, s
 /// them, share by share in order.
 template <int dim, class Real, bool rotation>
 void add_spills(const std::vector<std::vector<Spill<dim, Real, rotation>>>& spills, int share, Index owned_begin, Index owned_end,
-                Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque) {
+                Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque) {
     for (int u = 0; u < share; ++u)
         for (const auto& s : spills[u]) {
             if (s.particle < owned_begin || s.particle >= owned_end) continue;
@@ -56,7 +56,7 @@ public:
     /// `books` (half of a pair with a ghost).
     template <bool track, class Law, class History>
     void run(const ContactLoopInput<dim, Real, History>& in, std::size_t count, Index particles, int shares,
-             const Domain<dim>& domain, const Law& law, double dt, Vec<dim, Real>* f, Angular<dim, Real>* torque,
+             const Domain<dim>& domain, const Law& law, double dt, Vec<dim>* f, Angular<dim>* torque,
              EnergyBooks& books) {
         const Index n = particles;
         thread_books_.assign(shares, EnergyBooks{});

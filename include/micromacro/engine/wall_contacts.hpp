@@ -63,7 +63,7 @@ struct WallTerm {
 /// serial engine's stays as it was).
 template <bool track, bool rotation, bool keep_terms, int dim, class Real, class Law, class History, class WallSet>
 void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t count, WallSet& walls, const Law& law, double dt,
-                 Vec<dim, Real>* f, [[maybe_unused]] Angular<dim, Real>* torque, EnergyBooks& books,
+                 Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque, EnergyBooks& books,
                  [[maybe_unused]] std::vector<WallTerm<dim>>& terms) {
     using V = Vec<dim>;
     using A = Angular<dim>;
@@ -81,10 +81,10 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
                 History& h = in.history[c];
                 if (law.touched(h)) [[unlikely]] {  // opened in the last step
                     const V force = law.opening_force(wall_kinematics<rotation>(in, i, wall, point, dt), h);
-                    f[i] += convert<Real>(force);
+                    f[i] += force;
                     wall.force -= force;
                     if constexpr (keep_terms) terms[c].force = force;
-                    if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(point.normal, force)));
+                    if constexpr (rotation) torque[i] -= A(a * T::cross(point.normal, force));
                 }
                 h = History{};
             }
@@ -96,10 +96,10 @@ void wall_forces(const ContactLoopInput<dim, Real, History>& in, std::size_t cou
             else return none;
         }();
         const auto resp = respond<track>(law, wall_kinematics<rotation>(in, i, wall, point, dt), h, books, wall.frictionless);
-        f[i] += convert<Real>(resp.force);
+        f[i] += resp.force;
         wall.force -= resp.force;
         if constexpr (keep_terms) terms[c].force = resp.force;
-        if constexpr (rotation) torque[i] -= convert<Real>(A(a * T::cross(point.normal, resp.tangential)));
+        if constexpr (rotation) torque[i] -= A(a * T::cross(point.normal, resp.tangential));
     }
 }
 

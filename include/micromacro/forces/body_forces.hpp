@@ -45,23 +45,23 @@ struct BackgroundDamping {
         // them after every store). The power gamma |v|^2 is summed as |v|^2 and |omega|^2 apart,
         // two independent chains of additions instead of one running through both loops (perf had
         // the two loops at ~7% of the paper biaxial's loading, most of it on that chain).
-        Vec<dim, Real>* f = p.template get<field::Force>().data();
+        Vec<dim>* f = p.template get<field::Force>().data();
         const Vec<dim, Real>* v = p.template get<field::Velocity>().data();
-        [[maybe_unused]] Angular<dim, Real>* t = nullptr;
+        [[maybe_unused]] Angular<dim>* t = nullptr;
         [[maybe_unused]] const Angular<dim, Real>* w = nullptr;
         if constexpr (rot) {
             t = p.template get<field::Torque>().data();
             w = p.template get<field::AngularVelocity>().data();
         }
         if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
-        const Real gamma_b = static_cast<Real>(translational), gamma_r = static_cast<Real>(rotational);
+        const double gamma_b = translational, gamma_r = rotational;
         const std::size_t n = std::min(count, p.size());
         double v_sq = 0.0, w_sq = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
-            f[i] -= gamma_b * v[i];
+            f[i] -= gamma_b * convert<double>(v[i]);
             if constexpr (track_energy) v_sq += convert<double>(v[i]).squaredNorm();
             if constexpr (rot) {
-                t[i] -= gamma_r * w[i];
+                t[i] -= gamma_r * convert<double>(w[i]);
                 if constexpr (track_energy) w_sq += DimTraits<dim>::squared_norm(convert<double>(w[i]));
             }
         }
@@ -103,12 +103,12 @@ struct AffineDamping {
         const std::size_t n = std::min(count, p.size());
         for (std::size_t i = 0; i < n; ++i) {
             const Vec<dim> velocity = convert<double>(v[i]), relative = velocity - field.velocity(convert<double>(x[i]));
-            f[i] -= convert<Real>(Vec<dim>(translational * relative));
+            f[i] -= Vec<dim>(translational * relative);
             if constexpr (track_energy) power += translational * relative.dot(velocity);
             if constexpr (rot) {
                 auto& t = p.template get<field::Torque>()[i];
                 const Angular<dim> omega = convert<double>(p.template get<field::AngularVelocity>()[i]), turning = omega - spin;
-                t -= convert<Real>(Angular<dim>(rotational * turning));
+                t -= Angular<dim>(rotational * turning);
                 if constexpr (track_energy) power += rotational * DimTraits<dim>::dot(turning, omega);
             }
         }
@@ -143,10 +143,10 @@ struct LocalDamping {
         const auto& v = p.template get<field::Velocity>();
         double power = 0.0;
         // One component: reduced against the velocity along it; returns the power taken.
-        auto damp = [&](Real& force, Real velocity) {
-            const double fk = double(force), vk = double(velocity);
+        auto damp = [&](double& force, Real velocity) {
+            const double fk = force, vk = double(velocity);
             const double taken = alpha * std::abs(fk) * ((vk > 0.0) - (vk < 0.0));
-            force = static_cast<Real>(fk - taken);
+            force = fk - taken;
             return taken * vk;
         };
         const std::size_t n = std::min(count, p.size());
@@ -173,9 +173,8 @@ struct Gravity {
     void apply(Particles<dim, rot, Real>& p, EnergyBooks&, double, std::size_t count = all_particles) const {
         auto& f = p.template get<field::Force>();
         const auto& m = p.template get<field::Mass>();
-        const Vec<dim, Real> stored_g = convert<Real>(g);
         const std::size_t n = std::min(count, p.size());
-        for (std::size_t i = 0; i < n; ++i) f[i] += m[i] * stored_g;
+        for (std::size_t i = 0; i < n; ++i) f[i] += double(m[i]) * g;
     }
     template <bool rot, class Real>
     double potential_energy(const Particles<dim, rot, Real>& p, std::size_t count = all_particles) const {

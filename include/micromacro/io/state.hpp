@@ -34,7 +34,8 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 //    engine's spatial sorting (count, reference distance, on/off)
 // 7: walls' shapes in the scene signature
 // 8: 2D tangential springs as components along the tangent (24-byte records)
-inline constexpr std::uint32_t state_version = 8;
+// 9: forces and torques in double whatever the storage precision
+inline constexpr std::uint32_t state_version = 9;
 
 /// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it
 /// (each step is a bijection of the running value); other changes go unseen with chance 2^-64.

@@ -49,14 +49,19 @@ template <bool present, class T>
 using MaybeVector = std::conditional_t<present, std::vector<T>, Absent>;
 }  // namespace detail
 
-/// `Real` is the storage precision of every field (float halves the memory and its traffic;
-/// positions then resolve only ~6e-8 of their magnitude, see BasicSimulation). Values go in and
-/// out of add() in double.
+/// `Real` is the storage precision of the particles' state (float halves its memory and traffic;
+/// positions then resolve only ~6e-8 of their magnitude, see BasicSimulation). Forces and torques
+/// are sums of many contacts' forces, often nearly cancelling, and stay double: accumulated in
+/// float they would lose the digits a packing at rest balances on, and the pair loop would round
+/// every contact's force (in a float scene double sums ran 1.09x: docs/performance.md). Values go
+/// in and out of add() in double.
 template <int dim, bool with_rotation, class Real = double>
 class Particles {
 public:
     using V = Vec<dim, Real>;
     using A = Angular<dim, Real>;
+    using FV = Vec<dim>;      ///< a force: double whatever Real is
+    using FA = Angular<dim>;  ///< a torque: double whatever Real is
     using Scalar = Real;
     static constexpr bool has_rotation = with_rotation;
 
@@ -133,7 +138,7 @@ public:
         position_.push_back(convert<Real>(position));
         id_.push_back(static_cast<Index>(i));
         velocity_.push_back(V::Zero());
-        force_.push_back(V::Zero());
+        force_.push_back(FV::Zero());
         radius_.push_back(static_cast<Real>(radius));
         mass_.push_back(static_cast<Real>(mass));
         inverse_mass_.push_back(static_cast<Real>(1.0 / mass));
@@ -142,7 +147,7 @@ public:
             if (!std::isfinite(inertia))
                 detail::throw_input_error("particle ", i, ": moment of inertia = ", inertia, " is not finite");
             angular_velocity_.push_back(zero_angular<dim, Real>());
-            torque_.push_back(zero_angular<dim, Real>());
+            torque_.push_back(zero_angular<dim, double>());
             inertia_.push_back(static_cast<Real>(inertia));
             inverse_inertia_.push_back(static_cast<Real>(1.0 / inertia));
         }
@@ -177,7 +182,7 @@ public:
     const std::vector<V>& position() const { return position_; }
     std::vector<V>& velocity() { return velocity_; }
     const std::vector<V>& velocity() const { return velocity_; }
-    const std::vector<V>& force() const { return force_; }
+    const std::vector<FV>& force() const { return force_; }
     const std::vector<Real>& radius() const { return radius_; }
     const std::vector<Real>& mass() const { return mass_; }
     /// The id of the particle stored at index i: its index when it was added.
@@ -199,8 +204,8 @@ public:
 
     /// Bytes of particle storage per particle (all fields).
     std::size_t bytes_per_particle() const {
-        std::size_t b = 3 * sizeof(V) + 3 * sizeof(Real) + sizeof(Index);
-        if constexpr (with_rotation) b += 2 * sizeof(A) + 2 * sizeof(Real);
+        std::size_t b = 2 * sizeof(V) + sizeof(FV) + 3 * sizeof(Real) + sizeof(Index);
+        if constexpr (with_rotation) b += sizeof(A) + sizeof(FA) + 2 * sizeof(Real);
         return b;
     }
 
@@ -243,10 +248,12 @@ private:
         }
     }
 
-    std::vector<V> position_, velocity_, force_;
+    std::vector<V> position_, velocity_;
+    std::vector<FV> force_;
     std::vector<Real> radius_, mass_, inverse_mass_;
     std::vector<Index> id_;
-    [[no_unique_address]] detail::MaybeVector<with_rotation, A> angular_velocity_, torque_;
+    [[no_unique_address]] detail::MaybeVector<with_rotation, A> angular_velocity_;
+    [[no_unique_address]] detail::MaybeVector<with_rotation, FA> torque_;
     [[no_unique_address]] detail::MaybeVector<with_rotation, Real> inertia_, inverse_inertia_;
 };
 
