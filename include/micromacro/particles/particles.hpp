@@ -53,7 +53,7 @@ using MaybeVector = std::conditional_t<present, std::vector<T>, Absent>;
 /// positions then resolve only ~6e-8 of their magnitude, see BasicSimulation). Forces and torques
 /// are sums of many contacts' forces, often nearly cancelling, and stay double: accumulated in
 /// float they would lose the digits a packing at rest balances on, and the pair loop would round
-/// every contact's force (in a float scene double sums ran 1.09x: docs/performance.md). Values go
+/// every contact's force (in a float scene double sums ran 1.06x: docs/performance.md). Values go
 /// in and out of add() in double.
 template <int dim, bool with_rotation, class Real = double>
 class Particles {
