@@ -44,11 +44,10 @@
 namespace micromacro {
 
 /// The engine. `Real` is the storage precision of the particle state (positions, velocities,
-/// radii, masses): every force and update is computed in double, and with float each stored
-/// value is rounded to float, which halves the state's memory and its traffic but resolves
-/// positions only to ~6e-8 of their magnitude (prepare() checks that against the radii). Forces
-/// and torques (sums), contact springs, walls and energies stay double. `Simulation` is the
-/// double engine.
+/// radii, masses): every force and update is computed in double, and with float each stored value
+/// is rounded to float, which halves the state's memory but resolves positions only to ~6e-8 of
+/// their magnitude (prepare() checks that against the radii). Force and torque sums, contact
+/// springs, walls and energies stay double. `Simulation` is the double engine.
 template <int dim, class Real, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet,
           class Neighbors = LinkedCells, class... BodyForces>
 class BasicSimulation {
