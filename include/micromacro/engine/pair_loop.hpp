@@ -24,7 +24,7 @@ namespace micromacro::detail {
 
 /// What a thread's share of the pair loop owes a particle of a later share: subtracted from its
 /// force and torque, as the partner of a pair.
-template <int dim, class Real, bool rotation>
+template <int dim, bool rotation>
 struct Spill {
     Index particle;
     Vec<dim> force;
@@ -64,21 +64,21 @@ MICROMACRO_INLINE ContactKinematics<dim> pair_kinematics(const ContactLoopInput<
     return {{n, double(in.r[i]) + double(in.r[j]) - dist, n.dot(dv), vr}, in.r[i], in.r[j], in.inverse_mass[i], in.inverse_mass[j], dt};
 }
 
-/// Adds force f and torque arm contributions of one pair to i, and to j if this share owns it.
-template <int dim, class Real, bool rotation>
-MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim>& stored, [[maybe_unused]] const Angular<dim>& arm,
+/// Adds the pair's force on i and its torque arm to i, and to j if this share owns it.
+template <int dim, bool rotation>
+MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim>& force, [[maybe_unused]] const Angular<dim>& arm,
                                       double ri, double rj, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
-                                      Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill) {
+                                      Index owned_end, std::vector<Spill<dim, rotation>>& spill) {
     using A = Angular<dim>;
-    f[i] += stored;
+    f[i] += force;
     if constexpr (rotation) torque[i] -= A(ri * arm);  // torque on i is (-a_i n) x f_t
     if (j < owned_end) [[likely]] {
-        f[j] -= stored;
+        f[j] -= force;
         if constexpr (rotation) torque[j] -= A(rj * arm);
     } else {  // another thread's particle: added by its owner after the loop
         auto& s = spill.emplace_back();
         s.particle = j;
-        s.force = stored;
+        s.force = force;
         if constexpr (rotation) s.torque = A(rj * arm);
     }
 }
@@ -90,7 +90,7 @@ MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim>& stored, 
 template <bool periodic, bool rotation, int dim, class Real, class Law, class History>
 MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, const Law& law, double dt,
                                  IndexPair p, const History& h, Vec<dim>* f, Angular<dim>* torque, Index owned_end,
-                                 std::vector<Spill<dim, Real, rotation>>& spill) {
+                                 std::vector<Spill<dim, rotation>>& spill) {
     using V = Vec<dim>;
     const auto [i, j] = p;
     const V d = domain.template separation_for<periodic>(convert<double>(in.x[i]), convert<double>(in.x[j]));
@@ -100,7 +100,7 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
     const V force = law.opening_force(pair_kinematics<rotation>(in, i, j, n, dist, dt), h);
     Angular<dim> arm{};
     if constexpr (rotation) arm = DimTraits<dim>::cross(n, force);
-    add_pair_force<dim, Real, rotation>(i, j, force, arm, double(in.r[i]), double(in.r[j]), f, torque, owned_end,
+    add_pair_force<dim, rotation>(i, j, force, arm, double(in.r[i]), double(in.r[j]), f, torque, owned_end,
                                         spill);
 }
 
@@ -118,7 +118,7 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
 template <bool track, bool periodic, bool rotation, bool weighed, int dim, class Real, class Law, class History>
 void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
                std::size_t begin, std::size_t end, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
-               EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, Real, rotation>>& spill,
+               EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, rotation>>& spill,
                std::vector<std::size_t>& opened_contacts) {
     using V = Vec<dim>;
     using SV = Vec<dim, Real>;
@@ -207,7 +207,7 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
             const ContactResponse<dim> resp = respond<track>(law, kinematics, h, account, false, weight);
             Angular<dim> arm{};
             if constexpr (rotation) arm = DimTraits<dim>::cross(n, resp.tangential);
-            add_pair_force<dim, Real, rotation>(i, j, resp.force, arm, ri, rj, f, torque, owned_end, spill);
+            add_pair_force<dim, rotation>(i, j, resp.force, arm, ri, rj, f, torque, owned_end, spill);
         }
     }
     // The rest of the impulses of contacts that opened, after every contact's force: so each

@@ -34,8 +34,8 @@ inline void split_shares(const IndexPair* pair, std::size_t count, int shares, s
 
 /// Adds to the particles [owned_begin, owned_end) what the shares before `share` spilled on
 /// them, share by share in order.
-template <int dim, class Real, bool rotation>
-void add_spills(const std::vector<std::vector<Spill<dim, Real, rotation>>>& spills, int share, Index owned_begin, Index owned_end,
+template <int dim, bool rotation>
+void add_spills(const std::vector<std::vector<Spill<dim, rotation>>>& spills, int share, Index owned_begin, Index owned_end,
                 Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque) {
     for (int u = 0; u < share; ++u)
         for (const auto& s : spills[u]) {
@@ -103,14 +103,14 @@ public:
     /// Bytes of the spill and opened-contact lists, capacities counted.
     std::size_t bytes() const {
         std::size_t b = 0;
-        for (const auto& list : spills_) b += list.capacity() * sizeof(Spill<dim, Real, rotation>);
+        for (const auto& list : spills_) b += list.capacity() * sizeof(Spill<dim, rotation>);
         for (const auto& list : opened_) b += list.capacity() * sizeof(std::size_t);
         return b;
     }
 
 private:
     std::vector<std::size_t> share_start_;
-    std::vector<std::vector<Spill<dim, Real, rotation>>> spills_;
+    std::vector<std::vector<Spill<dim, rotation>>> spills_;
     std::vector<std::vector<std::size_t>> opened_;  // each share's contacts found open (pair_loop)
     std::vector<EnergyBooks> thread_books_;
     std::vector<IndexPair> coincident_;
