@@ -430,11 +430,36 @@ public:
             if (scene.time() - start > limit)
                 mm::throw_input_error("the preparation did not come to rest within ", limit,
                                               " s (kinetic / elastic energy = ", e.kinetic() / e.potential(),
-                                              ", largest wall push off p A by ", imbalance,
-                                              "); raise --gamma-b-prepare or lower --prepare-speed");
+                                              ", largest wall push off p A by ", imbalance, ")", rest_advice(e));
         }
         return scene.time() - start;
     }
+    /// What to change when the preparation has not come to rest: the damping or the speed, unless
+    /// the particles are stored in float and the rest asked for lies below what float resolves. A
+    /// particle whose step moves it by less than half the position resolution R stays where it is
+    /// while its speed grows, so it moves at about R / (2 dt) or not at all: a floor that a smaller
+    /// dt raises, and a float packing's rms speed stays at a fraction of it
+    /// (tests/tools/biaxial_float_rest.cpp).
+    std::string rest_advice(const mm::EnergyState& e) const {
+        const std::string damping = "; raise --gamma-b-prepare or lower --prepare-speed";
+        if constexpr (std::is_same_v<Real, double>) {
+            return damping;
+        } else {
+            double mass = 0.0;
+            for (const auto m : sim_.particles().mass()) mass += double(m);
+            const double floor = sim_.position_resolution() / (2.0 * sim_.time_step());
+            const double needed = std::sqrt(2.0 * c_.prepare_kinetic_ratio * e.potential() / mass);
+            if (needed >= floor) return damping;
+            std::ostringstream out;
+            out.precision(3);
+            out << "; positions stored in " << sizeof(Real) * 8 << " bits resolve " << sim_.position_resolution()
+                << " m here, so a particle moves only once its step takes it half that far, at " << floor << " m/s (dt = "
+                << sim_.time_step() << " s); rest needs rms speeds below " << needed << " m/s, and they are "
+                << std::sqrt(2.0 * e.kinetic() / mass) << " m/s: store the particles in double precision";
+            return out.str();
+        }
+    }
+
     double prepare(const std::function<void()>& progress = {}) {
         SerialScene<Sim> scene(sim_);
         return prepare(scene, progress);

@@ -456,7 +456,9 @@ int main(int argc, char** argv) {
            << "against the inner box's contact stress). Residual: the energy books' residual at the end (relative to the "
            << "work put in). Seconds: one run's wall time (" << jobs << " run" << (jobs > 1 ? "s" : "")
            << " at a time). Float: the particle state stored in float, every force computed and summed in double "
-           << "(`BasicSimulation<dim, float, ...>`); positions of a 3.5 cm box then resolve 2e-9 m against overlaps of ~4e-7 m.\n\n"
+           << "(`BasicSimulation<dim, float, ...>`); positions of a 3.5 cm box then resolve 2e-9 m against overlaps of ~4e-7 m, "
+           << "and a particle moves only once its step takes it half that far, at about resolution / (2 dt): far "
+           << "faster than the preparation's rest allows, so the float rows stop, and their message gives the numbers.\n\n"
            << "| group | setting | seconds | particle-steps | peak stress ratio | eps_zz at peak | max deviatoric fabric | "
               "C_n_2222 at peak (N/m) | wall gap | residual |\n"
            << "|---|---|---|---|---|---|---|---|---|---|\n";
