@@ -52,9 +52,7 @@ Outcome prepare(const biaxial::Config& c) {
 }  // namespace
 
 // 2D, 100 particles at t_c/100 for 0.06 s: the float packing's rms speed measured 0.48 of its
-// floor (0.32-0.39 at t_c/200 and t_c/400, where the floor is twice and four times as high), the
-// double packing's a tenth of it or less (8e-5 and 5e-4 m/s against 6e-3 in builds with other
-// bits).
+// floor (6e-3 m/s), the double packing's 8e-5 m/s, at rest.
 BOOST_AUTO_TEST_CASE(a_float_packing_keeps_speeds_near_its_resolution_floor) {
     const auto c = small_config<2>(0.06);
     const Outcome in_float = prepare<2, float>(c), in_double = prepare<2, double>(c);
