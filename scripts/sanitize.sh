@@ -6,8 +6,9 @@
 # VTK), the MPI layer's tests (OpenMPI's own allocations at exit read as leaks; the build goes
 # without MPI), the checks of the source tree (header hygiene, layers, compile-fail, packaging:
 # nothing of the library runs), the tiny speed-accuracy table (4-5 minutes here, the engine's
-# code paths again) and the test cases labelled long (MICROMACRO_LONG_TESTS=OFF). On 2 cores:
-# about 16 minutes to build and 13 to test (tools.biaxial, 9 minutes, is the longest).
+# code paths again) and the test cases labelled long (MICROMACRO_LONG_TESTS=OFF: long runs for
+# their physics, of paths that shorter cases take too). On 2 cores: about half an hour to build
+# (53 CPU-minutes of compiling) and 10 minutes to test (tools.biaxial, 4 minutes, is the longest).
 #   scripts/sanitize.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."

@@ -24,10 +24,11 @@
 
 namespace fs = std::filesystem;
 
-// The cases labelled "long", the two-sided preparation and the Hertz-Mindlin law, take half of
-// this program's time; the sanitizer build leaves them out (MICROMACRO_LONG_TESTS in
-// tests/CMakeLists.txt), where the law's own tests (physics/hertz_mindlin.cpp) and the other cases
-// here still run.
+// The cases labelled "long" (the physics of the shared 600-particle run, the triaxial box, the
+// two-sided preparation and the Hertz-Mindlin law) take most of this program's time; the
+// sanitizer build leaves them out (MICROMACRO_LONG_TESTS in tests/CMakeLists.txt). There the
+// shorter runs of the other cases still take the program through its 2D and 3D paths, and the
+// law's own tests (physics/hertz_mindlin.cpp) run.
 
 namespace {
 const mmtest::WorkFolder work_folder("micromacro_biaxial_test");  // removed when the test process ends
@@ -68,7 +69,7 @@ const std::map<std::string, std::vector<double>>& physics_run() {
 }
 }  // namespace
 
-BOOST_AUTO_TEST_CASE(side_wall_holds_the_pressure) {
+BOOST_AUTO_TEST_CASE(side_wall_holds_the_pressure, *boost::unit_test::label("long")) {
     const auto& s = physics_run();
     // Once settled (the end of the relaxation) the stress-controlled wall pushes with p = 20 N/m.
     BOOST_TEST(std::abs(s.at("sigma_wall_11_upper").back() / 20.0 - 1.0) < 0.02);
@@ -97,7 +98,7 @@ double mean_over(const std::map<std::string, std::vector<double>>& s, const std:
 // While the top wall moves slowly (inertial number about 1e-3 and below) the packing is
 // quasi-static: the contact stress of the inner volume equals the stress the walls feel.
 // Measured over seeds 1-4 and both preparations: within 3.9%.
-BOOST_AUTO_TEST_CASE(contact_stress_matches_wall_stress_when_quasi_static) {
+BOOST_AUTO_TEST_CASE(contact_stress_matches_wall_stress_when_quasi_static, *boost::unit_test::label("long")) {
     const auto& s = physics_run();
     for (const std::string c : {"11", "22"}) {
         const double inner = mean_over(s, "sigma_" + c, 0.0, 0.3), wall = mean_over(s, "sigma_wall_" + c, 0.0, 0.3);
@@ -111,7 +112,7 @@ BOOST_AUTO_TEST_CASE(contact_stress_matches_wall_stress_when_quasi_static) {
 // runs): sigma_22 / sigma_11 1.71-1.96, F_22 / F_11 1.31-1.43, C_n_2222 / C_n_1111 1.46-1.63. (The
 // relaxation after the loading is no place to assert it: in two of those eight runs the 600
 // particles rearranged and sigma_22 / sigma_11 fell to 0.94 and 1.00, F_22 / F_11 to 1.05.)
-BOOST_AUTO_TEST_CASE(anisotropy_against_the_compression) {
+BOOST_AUTO_TEST_CASE(anisotropy_against_the_compression, *boost::unit_test::label("long")) {
     const auto& s = physics_run();
     auto loaded = [&](const std::string& key) { return mean_over(s, key, 0.15, 0.3); };
     BOOST_TEST(loaded("sigma_22") > 1.5 * loaded("sigma_11"));
@@ -122,7 +123,7 @@ BOOST_AUTO_TEST_CASE(anisotropy_against_the_compression) {
 // Exact in 2D for any packing (t_b t_d = delta_bd - n_b n_d in Eq. 9), so in every row: C^t_1111 = C^t_2222 = alpha C^n_1122, C^t_1122 = -alpha
 // C^n_1122, C^t_1212 = alpha C^n_1111, C^t_2121 = alpha C^n_2222, C^t_1222 = alpha C^n_1112,
 // C^t_1121 = alpha C^n_1222 (alpha = 0.2).
-BOOST_AUTO_TEST_CASE(stiffness_identities_in_every_row) {
+BOOST_AUTO_TEST_CASE(stiffness_identities_in_every_row, *boost::unit_test::label("long")) {
     const auto& s = physics_run();
     const double alpha = 0.2;
     for (std::size_t r = 0; r < s.at("time").size(); ++r) {
@@ -142,7 +143,7 @@ BOOST_AUTO_TEST_CASE(stiffness_identities_in_every_row) {
 
 // Kinetic + elastic + dissipated - work of the walls stays at its start value (zero: the run
 // starts at rest without contacts), to the integrator's error.
-BOOST_AUTO_TEST_CASE(energy_books_close) {
+BOOST_AUTO_TEST_CASE(energy_books_close, *boost::unit_test::label("long")) {
     const auto& s = physics_run();
     double worst = 0.0;
     for (std::size_t r = 0; r < s.at("time").size(); ++r) {
@@ -157,7 +158,7 @@ BOOST_AUTO_TEST_CASE(energy_books_close) {
 // The volume first compacts (volumetric strain, compression positive, rises: the contacts give
 // elastically as the load grows, 3-4e-4 over seeds 1-4) and then dilates by more than it
 // compacted (the dense packing must expand to shear: 1.5-4% at eps_22 = 0.3).
-BOOST_AUTO_TEST_CASE(compaction_then_dilation) {
+BOOST_AUTO_TEST_CASE(compaction_then_dilation, *boost::unit_test::label("long")) {
     const auto& s = physics_run();
     const auto& ev = s.at("volumetric_strain");
     const auto& e22 = s.at("strain_22");
@@ -183,6 +184,17 @@ BOOST_AUTO_TEST_CASE(same_seed_same_bits) {
     const std::string other = " --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 8 --out ";
     BOOST_TEST_REQUIRE(run(other + (work / "c").string()).status == 0);
     BOOST_TEST((rows_of(work / "c" / "timeseries.csv") != a));
+}
+
+// The same in 3D (the triaxial box), with a run short enough for the sanitizer build, which
+// leaves out the longer 3D run of triaxial_box.
+BOOST_AUTO_TEST_CASE(same_seed_same_bits_in_3d) {
+    const std::string args = " --dim 3 --preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --seed 7 --out ";
+    BOOST_TEST_REQUIRE(run(args + (work / "a3").string()).status == 0);
+    BOOST_TEST_REQUIRE(run(args + (work / "b3").string()).status == 0);
+    const auto a = rows_of(work / "a3" / "timeseries.csv"), b = rows_of(work / "b3" / "timeseries.csv");
+    BOOST_TEST(a.size() > 1000u);
+    BOOST_TEST((a == b));
 }
 
 // Nothing lost: a run killed after a checkpoint and resumed ends with the same timeseries.csv as
@@ -406,7 +418,7 @@ BOOST_AUTO_TEST_CASE(a_big_box_asks_for_a_wall_heavy_enough_for_its_damper) {
 // The triaxial box (--dim 3), short: both stress-controlled side walls hold p, the packing
 // stiffens against the compression, the books close, and in every row the exact 3D identity
 // sum_b C^t_1b1b = (dim - 1) alpha sum_b C^n_1b1b of the full tangential projector holds.
-BOOST_AUTO_TEST_CASE(triaxial_box) {
+BOOST_AUTO_TEST_CASE(triaxial_box, *boost::unit_test::label("long")) {
     const auto dir = work / "triaxial";
     const auto r = run("--dim 3 --preset quick --particles 400 --period 0.04 --relax 0.01 --quiet --out " + dir.string());
     BOOST_TEST_REQUIRE(r.status == 0, r.err);

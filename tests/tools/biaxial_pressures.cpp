@@ -34,6 +34,9 @@ biaxial::Config config_for(double pressure_over_stiffness) {
 }
 }  // namespace
 
+// Labelled long: 1.5e6 steps of the preparation that tools/biaxial.cpp and biaxial_float_rest.cpp
+// take through shorter runs; the sanitizer build leaves it out (tests/CMakeLists.txt).
+BOOST_TEST_DECORATOR(*boost::unit_test::label("long"))
 BOOST_AUTO_TEST_CASE_TEMPLATE(prepared_at_every_pressure, D, mmtest::Dims) {
     constexpr int dim = D::value;
     for (double ratio : {1e-6, 1e-4, 1e-2}) {
