@@ -19,6 +19,7 @@
 #include "micromacro/core/inline.hpp"
 #include "micromacro/core/roots.hpp"
 #include "micromacro/engine/contact_response.hpp"
+#include "micromacro/engine/packet_pair_loop.hpp"
 
 namespace micromacro::detail {
 
@@ -104,10 +105,8 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
                                         spill);
 }
 
-/// The pair loop over candidates [begin, end), adding into the force and torque arrays f and
-/// torque; a partner at or past owned_end goes to `spill`; `opened_contacts` (empty on entry)
-/// holds the contacts found open, whose impulses are completed after the loop (a vector of the
-/// caller's: one of the loop's own ran the 2D loop at 0.92x). With `weighed`, a pair with a particle
+/// The scalar pair loop (pair_loop below calls it, and then completes the opened contacts): one
+/// contact at a time, with the arguments of pair_loop. With `weighed`, a pair with a particle
 /// at or past in.first_ghost (a ghost: another process computes the pair too) counts half in the
 /// books (a loop of its own: the weight costs up to 7% where no pair needs it). Local copies of
 /// the law, the box and the energy account: through references the compiler would reload them
@@ -116,10 +115,10 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
 /// thrown from a thread; it is recorded in `coincident` and reported after. `periodic`: whether
 /// the box has a periodic axis (else separations are plain differences).
 template <bool track, bool periodic, bool rotation, bool weighed, int dim, class Real, class Law, class History>
-void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
-               std::size_t begin, std::size_t end, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
-               EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, rotation>>& spill,
-               std::vector<std::size_t>& opened_contacts) {
+void scalar_pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
+                      std::size_t begin, std::size_t end, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
+                      EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, rotation>>& spill,
+                      std::vector<std::size_t>& opened_contacts) {
     using V = Vec<dim>;
     using SV = Vec<dim, Real>;
     constexpr bool has_history = Law::has_history;
@@ -210,17 +209,38 @@ void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>
             add_pair_force<dim, rotation>(i, j, resp.force, arm, ri, rj, f, torque, owned_end, spill);
         }
     }
+    books = account;
+}
+
+/// The pair loop over candidates [begin, end), adding into the force and torque arrays f and
+/// torque; a partner at or past owned_end goes to `spill`; `opened_contacts` (empty on entry)
+/// holds the contacts found open, whose impulses are completed after the loop (a vector of the
+/// caller's: one of the loop's own ran the 2D loop at 0.92x). FrictionalLinear (with rotation)
+/// runs on packets of eight where the compiler targets AVX-512 (engine/packet_pair_loop.hpp),
+/// every other law through scalar_pair_loop above.
+template <bool track, bool periodic, bool rotation, bool weighed, int dim, class Real, class Law, class History>
+void pair_loop(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& box, const Law& contact_law, double dt,
+               std::size_t begin, std::size_t end, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
+               EnergyBooks& books, IndexPair& coincident, Index owned_end, std::vector<Spill<dim, rotation>>& spill,
+               std::vector<std::size_t>& opened_contacts) {
+#ifdef MICROMACRO_PACKETS
+    if constexpr (packet_pair_loop_applies<dim, rotation, Law>)
+        packet_pair_loop<track, periodic, weighed>(in, box, contact_law, dt, begin, end, f, torque, books, coincident, owned_end,
+                                                   spill, opened_contacts);
+    else
+#endif
+        scalar_pair_loop<track, periodic, rotation, weighed>(in, box, contact_law, dt, begin, end, f, torque, books, coincident,
+                                                             owned_end, spill, opened_contacts);
     // The rest of the impulses of contacts that opened, after every contact's force: so each
     // particle's sum runs through its contacts in the list's order and then through its opened
     // contacts in the list's order, whatever blocks the list falls into (a distributed run's
     // lists hold other pairs between a particle's, and must sum as the serial run does).
-    if constexpr (has_history)
+    if constexpr (Law::has_history)
         for (const std::size_t c : opened_contacts) {
-            History& h = history[c];
-            opened_pair<periodic, rotation>(in, box, contact_law, dt, pair[c], h, f, torque, owned_end, spill);
+            History& h = in.history[c];
+            opened_pair<periodic, rotation>(in, box, contact_law, dt, in.pair[c], h, f, torque, owned_end, spill);
             h = History{};
         }
-    books = account;
 }
 
 }  // namespace micromacro::detail
