@@ -14,6 +14,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <type_traits>
 #include <vector>
 
 #include "micromacro/contact/frictional_packet.hpp"
@@ -37,14 +38,15 @@ constexpr bool packet_pair_loop_applies =
 #ifdef MICROMACRO_PACKETS
 /// The block of candidates the packet loop works on: the touching ones packed, by position in
 /// the block (at), particles (first, second), separation and its square, distance and inverse,
-/// and the two radii (gathered once, in the first pass: 1.05x);
-/// the positions of those that do not touch (apart); and what the force pass leaves for the
-/// sums (out: force, torque arm and the books' three terms). Room for whole packets past the
-/// block's end: compressed stores write eight lanes. Zeroed once: lanes past a block's last
-/// contact read these as particle 0 and record 0, or as an earlier block's.
+/// and the two radii (gathered once, in the first pass: 1.05x); the positions of those that do
+/// not touch (apart); and what the force pass leaves for the sums (out: force, torque arm and
+/// the books' three terms). Room for whole packets past the block's end: compressed stores
+/// write eight lanes. Zeroed once: lanes past a block's last contact read these as particle 0,
+/// or as an earlier block's particles.
 struct PacketBlock {
     static constexpr std::size_t size = 128, room = size + packets::width;
-    alignas(64) double sx[room] = {}, sy[room] = {}, sz[room] = {}, sq[room] = {}, distance[room] = {}, inverse[room] = {}, rad_i[room] = {}, rad_j[room] = {};
+    alignas(64) double sx[room] = {}, sy[room] = {}, sz[room] = {}, sq[room] = {}, distance[room] = {}, inverse[room] = {};
+    alignas(64) double rad_i[room] = {}, rad_j[room] = {};
     alignas(64) std::uint32_t at[room] = {}, first[room] = {}, second[room] = {}, apart[room] = {};
     alignas(64) double out[9][room];
 };
@@ -118,7 +120,6 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
                       Index owned_end, std::vector<SpillT>& spill, std::vector<std::size_t>& opened_contacts) {
     namespace pk = packets;
     using pk::Lane;
-    using pk::Lanes3;
     using pk::Mask;
     const auto* x = in.x;
     const auto* v = in.v;
@@ -148,8 +149,9 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             const Mask valid = Mask((1u << lanes) - 1);
             for (int l = 0; l < lanes; ++l) __builtin_prefetch(&history[p0 + l], 1);
             const __m512i pairs = _mm512_maskz_loadu_epi64(valid, pair + p0);  // {i, j}: i in the low half
-            const __m256i is = _mm512_maskz_cvtepi64_epi32(0xFF, pairs), js = _mm512_maskz_cvtepi64_epi32(0xFF, _mm512_maskz_srli_epi64(0xFF, pairs, 32));
-            const IndexPair* here = pair + p0;  // lanes past the list's end read its first pair
+            const __m256i is = _mm512_maskz_cvtepi64_epi32(0xFF, pairs),
+                          js = _mm512_maskz_cvtepi64_epi32(0xFF, _mm512_maskz_srli_epi64(0xFF, pairs, 32));
+            const IndexPair* here = pair + p0;  // lanes past the block's end read the packet's first pair
             const auto xi = pk::load_by(x, [&](int l) { return here[l < lanes ? l : 0].i; });
             const auto xj = pk::load_by(x, [&](int l) { return here[l < lanes ? l : 0].j; });
             Lane d[dim];
@@ -208,7 +210,8 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
         }
         packet_forces<track, dim>(law, dt, block_arrays, count, b0, v, w, history);
         // The sums, in the list's order (add_pair_force and respond()'s books): i's sums held
-        // while its run of partners lasts (the list is sorted by i; j > i).
+        // while its run of partners lasts (the list takes each i's partners together; j is never
+        // i, so no other contact of the run writes i's sums meanwhile).
         Index current = first[0];
         Vec<dim> fi = f[current];
         Angular<dim> ti = torque[current];
