@@ -47,8 +47,9 @@ struct Scene {
 };
 
 // A jittered lattice (8^3 spheres, 22^2 disks) in a periodic box, most neighbours overlapping,
-// some apart; random velocities and spins; one particle moved a whole period (its pairs take the
-// full minimum image), one on top of another. Springs: a quarter new, the rest touching with
+// some apart; random velocities and spins, a few particles fast enough that their contacts are
+// in tension; one particle moved a whole period (its pairs take the full minimum image), one on
+// top of another. Springs: a quarter new, the rest touching with
 // random springs up to twice the Coulomb limit, sliding or not.
 template <int dim, class Real>
 Scene<dim, Real> scene() {
@@ -75,7 +76,9 @@ Scene<dim, Real> scene() {
                 s.inverse_mass.push_back(Real(1.0 / (1.0 + unit(rng))));
             }
     const std::size_t n = s.x.size();
-    s.x[n - 1] = s.x[n - 2];  // coincident centres
+    s.x[n - 1] = s.x[n - 2];                         // coincident centres
+    for (std::size_t i = 10; i < n; i += 37)  // fast particles: their dashpots outpull their springs
+        s.v[i] = Vec<dim>::Constant(i % 2 ? 300.0 : -300.0).template cast<Real>();
     mm::LinkedCells().find_pairs<dim, Real>(s.x, s.r, s.box, 0.2, s.pairs);
     s.x[5][0] += Real(side * spacing);  // a period off, after the search (as a particle not yet wrapped)
     const double limit = 0.5 * 1000.0 * 0.05 / 300.0;  // mu_s k overlap / k_t at a typical overlap
@@ -179,6 +182,15 @@ void compare(double owned_share, double ghost_share) {
     BOOST_TEST(sliding > touching / 20);
     BOOST_TEST(touching - sliding > touching / 4);
     BOOST_TEST(fresh > 0u);
+    std::size_t tension = 0;  // contacts whose normal force pulls (the dashpot outpulls the spring)
+    for (const mm::IndexPair& p : s.pairs) {
+        const Vec<dim> d = s.box.separation(s.x[p.i].template cast<double>(), s.x[p.j].template cast<double>());
+        const double dist = d.norm(), overlap = double(s.r[p.i]) + double(s.r[p.j]) - dist;
+        if (!(overlap > 0.0 && dist > 0.0)) continue;
+        const double vn = (d / dist).dot((s.v[p.i] - s.v[p.j]).template cast<double>());
+        tension += law.normal.stiffness() * overlap - law.normal.damping() * vn < 0.0;
+    }
+    BOOST_TEST(tension > 0u);
     BOOST_TEST(a.opened == b.opened);
     BOOST_TEST(!a.opened.empty());
     BOOST_TEST((a.coincident.i == b.coincident.i && a.coincident.j == b.coincident.j));
