@@ -11,6 +11,7 @@
 // without fused multiply-adds a lane computes what the scalar expression of the same shape
 // computes, to the bit.
 #include <cstdint>
+#include <limits>
 #include <type_traits>
 
 #include "micromacro/core/dim_traits.hpp"
@@ -70,6 +71,20 @@ MICROMACRO_INLINE Lanes3 select(Mask m, const Lanes3& when, const Lanes3& otherw
 MICROMACRO_INLINE Mask less(Lane a, Lane b) { return _mm512_cmp_pd_mask(a, b, _CMP_LT_OQ); }
 MICROMACRO_INLINE Mask greater(Lane a, Lane b) { return _mm512_cmp_pd_mask(a, b, _CMP_GT_OQ); }
 MICROMACRO_INLINE Mask greater_equal(Lane a, Lane b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+
+/// Domain::separation's minimum image on one axis, in the lanes of `valid`: d -+ L where
+/// |d| >= L/2 (`half` infinite on an open axis), as Domain::nearest_image does for wrapped
+/// positions, which are less than a period apart. Returns the lanes that were a period or more
+/// apart: for those the caller needs Domain::separation itself.
+MICROMACRO_INLINE Mask nearest_image(Lane& d, Lane half, Lane period, Mask valid) {
+    const Lane size = _mm512_abs_pd(d);
+    const Mask image = greater_equal(size, half) & valid;
+    if (!image) [[likely]]
+        return 0;
+    const Lane sign = _mm512_castsi512_pd(_mm512_set1_epi64(std::numeric_limits<std::int64_t>::min()));
+    d = _mm512_mask_sub_pd(d, image, d, _mm512_or_pd(_mm512_and_pd(d, sign), period));  // d - copysign(L, d)
+    return greater_equal(size, period) & image;
+}
 
 namespace detail {
 /// The first three numbers at p, as doubles, in the low three of four (the fourth zero): a

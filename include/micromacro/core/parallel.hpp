@@ -27,6 +27,15 @@ inline int thread_number() {
 #endif
 }
 
+/// The number of threads in the current parallel region (1 outside one, or without OpenMP).
+inline int thread_count() {
+#ifdef _OPENMP
+    return omp_get_num_threads();
+#else
+    return 1;
+#endif
+}
+
 }  // namespace micromacro::detail
 
 namespace micromacro {

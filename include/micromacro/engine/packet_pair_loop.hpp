@@ -130,8 +130,7 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
     PacketBlock block_arrays;
     auto& [sx, sy, sz, sq, distance, inverse, rad_i, rad_j, at, first, second, apart, out] = block_arrays;
     constexpr std::size_t block = PacketBlock::size;
-    const Lane one = pk::broadcast(1.0), abs_mask = _mm512_castsi512_pd(_mm512_set1_epi64(0x7fffffffffffffff)),
-               sign_mask = _mm512_castsi512_pd(_mm512_set1_epi64(std::numeric_limits<std::int64_t>::min()));
+    const Lane one = pk::broadcast(1.0);
     Lane period[dim], half[dim];
     for (int a = 0; a < dim; ++a) {
         const double length = domain.hi()[a] - domain.lo()[a];
@@ -159,15 +158,8 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             d[1] = xi.y - xj.y;
             if constexpr (dim == 3) d[2] = xi.z - xj.z;
             if constexpr (periodic) {
-                bool far = false;
-                for (int a = 0; a < dim; ++a) {
-                    const Lane size = _mm512_and_pd(d[a], abs_mask);
-                    const Mask image = pk::greater_equal(size, half[a]) & valid;
-                    if (image) [[unlikely]] {  // d -+ L, as Domain::nearest_image for a pair less than a period apart
-                        far |= (pk::greater_equal(size, period[a]) & image) != 0;
-                        d[a] = _mm512_mask_sub_pd(d[a], image, d[a], _mm512_or_pd(_mm512_and_pd(d[a], sign_mask), period[a]));
-                    }
-                }
+                Mask far = 0;
+                for (int a = 0; a < dim; ++a) far |= pk::nearest_image(d[a], half[a], period[a], valid);
                 if (far) [[unlikely]] {  // a period or more apart: Domain::separation itself, lane by lane
                     alignas(64) double e[dim][8] = {};
                     for (int l = 0; l < lanes; ++l) {
