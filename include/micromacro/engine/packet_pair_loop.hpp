@@ -22,6 +22,7 @@
 #include "micromacro/core/energy.hpp"
 #include "micromacro/core/index.hpp"
 #include "micromacro/core/packets.hpp"
+#include "micromacro/engine/pair_force_sums.hpp"
 
 namespace micromacro::detail {
 
@@ -113,11 +114,11 @@ template <bool track, int dim, class Real>
 
 /// The pair loop over candidates [begin, end) on packets; the arguments and the result as for
 /// pair_loop (engine/pair_loop.hpp), which calls it and then completes the opened contacts.
-/// `In` is its ContactLoopInput, `SpillT` its Spill.
-template <bool track, bool periodic, bool weighed, int dim, class In, class SpillT>
+/// `In` is its ContactLoopInput.
+template <bool track, bool periodic, bool weighed, int dim, class In>
 void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalLinear& law, double dt, std::size_t begin,
                       std::size_t end, Vec<dim>* f, Angular<dim>* torque, EnergyBooks& books, IndexPair& coincident,
-                      Index owned_end, std::vector<SpillT>& spill, std::vector<std::size_t>& opened_contacts) {
+                      Index owned_end, std::vector<Spill<dim, true>>& spill, std::vector<std::size_t>& opened_contacts) {
     namespace pk = packets;
     using pk::Lane;
     using pk::Mask;
@@ -201,9 +202,9 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             _mm512_store_pd(inverse + k, one / root);
         }
         packet_forces<track, dim>(law, dt, block_arrays, count, b0, v, w, history);
-        // The sums, in the list's order (add_pair_force and respond()'s books): i's sums held
-        // while its run of partners lasts (the list takes each i's partners together; j is never
-        // i, so no other contact of the run writes i's sums meanwhile).
+        // The sums, in the list's order (engine/pair_force_sums.hpp and respond()'s books): i's
+        // sums held while its run of partners lasts (the list takes each i's partners together; j
+        // is never i, so no other contact of the run writes i's sums meanwhile).
         Index current = first[0];
         Vec<dim> fi = f[current];
         Angular<dim> ti = torque[current];
@@ -239,16 +240,7 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             }
             fi += force;
             ti -= Angular<dim>(ri * arm);  // torque on i is (-a_i n) x f_t
-            const double rj = double(r[j]);
-            if (j < owned_end) [[likely]] {
-                f[j] -= force;
-                torque[j] -= Angular<dim>(rj * arm);
-            } else {  // another thread's particle: added by its owner after the loop
-                auto& s = spill.emplace_back();
-                s.particle = j;
-                s.force = force;
-                s.torque = Angular<dim>(rj * arm);
-            }
+            add_partner_force<dim, true>(j, force, arm, double(r[j]), f, torque, owned_end, spill);
         }
         f[current] = fi;
         torque[current] = ti;

@@ -20,17 +20,9 @@
 #include "micromacro/core/roots.hpp"
 #include "micromacro/engine/contact_response.hpp"
 #include "micromacro/engine/packet_pair_loop.hpp"
+#include "micromacro/engine/pair_force_sums.hpp"
 
 namespace micromacro::detail {
-
-/// What a thread's share of the pair loop owes a particle of a later share: subtracted from its
-/// force and torque, as the partner of a pair.
-template <int dim, bool rotation>
-struct Spill {
-    Index particle;
-    Vec<dim> force;
-    [[no_unique_address]] std::conditional_t<rotation, Angular<dim>, NoHistory> torque;
-};
 
 /// The stored arrays the pair and wall loops read, as raw pointers: the particles' (`w` null
 /// without rotation) and one contact list's (`history` null for a law without history); and
@@ -63,25 +55,6 @@ MICROMACRO_INLINE ContactKinematics<dim> pair_kinematics(const ContactLoopInput<
     const Vec<dim> dv = convert<double>(in.v[i]) - convert<double>(in.v[j]);
     const Vec<dim> vr = contact_point_velocity<rotation>(n, dv, in.w, i, j, in.r[i], in.r[j]);
     return {{n, double(in.r[i]) + double(in.r[j]) - dist, n.dot(dv), vr}, in.r[i], in.r[j], in.inverse_mass[i], in.inverse_mass[j], dt};
-}
-
-/// Adds the pair's force on i and its torque arm to i, and to j if this share owns it.
-template <int dim, bool rotation>
-MICROMACRO_INLINE void add_pair_force(Index i, Index j, const Vec<dim>& force, [[maybe_unused]] const Angular<dim>& arm,
-                                      double ri, double rj, Vec<dim>* f, [[maybe_unused]] Angular<dim>* torque,
-                                      Index owned_end, std::vector<Spill<dim, rotation>>& spill) {
-    using A = Angular<dim>;
-    f[i] += force;
-    if constexpr (rotation) torque[i] -= A(ri * arm);  // torque on i is (-a_i n) x f_t
-    if (j < owned_end) [[likely]] {
-        f[j] -= force;
-        if constexpr (rotation) torque[j] -= A(rj * arm);
-    } else {  // another thread's particle: added by its owner after the loop
-        auto& s = spill.emplace_back();
-        s.particle = j;
-        s.force = force;
-        if constexpr (rotation) s.torque = A(rj * arm);
-    }
 }
 
 /// What the law adds at the evaluation that finds a pair open whose history says it touched at
