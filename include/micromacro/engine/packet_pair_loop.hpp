@@ -69,8 +69,14 @@ template <bool track, int dim, class Real>
     auto& [sx, sy, sz, sq, distance, inverse, rad_i, rad_j, at, first, second, apart, out] = block;
     for (std::size_t k0 = 0; k0 < count; k0 += pk::width) {
         const int lanes = int(std::min<std::size_t>(pk::width, count - k0));
+        // The records' positions in the block by one load, the last contact's in the lanes past
+        // count (written as at[min(l, lanes - 1)], GCC gathered them: 6% of the pass's samples).
+        alignas(32) std::uint32_t slot[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(slot),
+                           _mm256_mask_loadu_epi32(_mm256_set1_epi32(int(at[k0 + std::size_t(lanes - 1)])),
+                                                   Mask((1u << lanes) - 1), at + k0));
         TangentialSpring<dim>* records[8];
-        for (int l = 0; l < pk::width; ++l) records[l] = &history[b0 + at[k0 + std::size_t(std::min(l, lanes - 1))]];
+        for (int l = 0; l < pk::width; ++l) records[l] = &history[b0 + slot[l]];
         const std::uint32_t* is = first + k0;
         const std::uint32_t* js = second + k0;
         const Lane ri = _mm512_load_pd(rad_i + k0), rj = _mm512_load_pd(rad_j + k0);
