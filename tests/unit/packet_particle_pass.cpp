@@ -131,8 +131,8 @@ void compare(double h_closing, int threads) {
     check_same<dim>(a.torque_old, b.torque_old, 100.0, "previous torque");
     BOOST_TEST(same(max_a, max_b, max_a));
     BOOST_TEST(std::abs(sum_a - sum_b) <= 1e-13 * sum_a);  // summed in another order
-    // The largest displacement is Domain's separation from the reference, at most; on the open
-    // axis there is no image (particle 11: 9 away).
+    // The largest displacement is the largest of Domain's separations from the references; on
+    // the open axis there is no image (particle 11: 9 away).
     double largest = 0.0;
     for (std::size_t i = 0; i < b.x.size(); ++i) largest = std::max(largest, box.separation(b.x[i], b.reference[i]).squaredNorm());
     BOOST_TEST(same(max_b, largest, largest));

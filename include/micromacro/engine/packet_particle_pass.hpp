@@ -7,7 +7,7 @@
 // are laid out in the same pattern. Only the squared displacements are regrouped by particle,
 // to sum each particle's dim squares. Wrapping a position and separations a period or more
 // long, which happen to a handful of particles in a step, go through Domain itself. Without
-// fused multiply-adds the same bits as the scalar pass (tests/unit/packets.cpp).
+// fused multiply-adds the same bits as the scalar pass (tests/unit/packet_particle_pass.cpp).
 #include <algorithm>
 #include <cstddef>
 #include <limits>
@@ -42,7 +42,9 @@ struct PacketLayout {
     __m512i spread[dim];  ///< register r, lane l: the particle of number 8 r + l
     packets::Lane lo[dim], hi[dim], half[dim], period[dim];
     packets::Mask periodic[dim];
-    __m512i x_of, y_of, z_of;  ///< particle l's numbers x, y, z: lanes of registers 0 and 1 (z_of, 3D: see squares)
+    /// Where particle l's x, y and z are: lanes of registers 0 and 1 taken together, and in 3D
+    /// the last particles' lanes of register 2 (see squares; 2D has no z).
+    __m512i x_of, y_of, z_of;
 
     explicit PacketLayout(const Domain<dim>& domain) {
         alignas(64) long long particle[dim][8];
@@ -138,93 +140,94 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
                        firstprivate(x, v, f, inv_m, w, torque, inv_I, f_old, torque_old, reference, domain, layout, h_before,
                                     dt, h_after, h_closing, h_spin) if (threads > 1))
     {
-    const int shares = thread_count(), t = thread_number();
-    Lane largest = pk::zeros(), sum = pk::zeros();
-    for (std::size_t p = share_begin(count, t, shares), end = share_begin(count, t + 1, shares); p < end; ++p) {
-        const std::size_t at = 8 * dim * p;  // the packet's first number in the vector arrays
-        const Lane mass = _mm512_loadu_pd(inv_m + 8 * p);
-        Lane position[rows];
-        for (int r = 0; r < rows; ++r) {
-            const std::size_t k = at + 8 * std::size_t(r);
-            const Lane inv_mass = layout.spread_over(mass, r), force = _mm512_loadu_pd(f + k);
-            Lane velocity = _mm512_loadu_pd(v + k);
-            if constexpr (keeps_previous_forces) {
-                if (h_closing != 0.0)  // force_change_kick
-                    velocity = velocity + (pk::broadcast(h_closing) * inv_mass) * (force - _mm512_loadu_pd(f_old + k));
-                _mm512_storeu_pd(f_old + k, pk::zeros());
-            }
-            const Lane acceleration = inv_mass * force;
-            velocity = velocity + pk::broadcast(h_before) * acceleration;
-            position[r] = _mm512_loadu_pd(x + k) + pk::broadcast(dt) * velocity;
-            velocity = velocity + pk::broadcast(h_after) * acceleration;
-            _mm512_storeu_pd(v + k, velocity);
-            if constexpr (!keeps_previous_forces) _mm512_storeu_pd(f + k, pk::zeros());
-        }
-        if constexpr (periodic) {
-            Mask outside = 0;
-            for (int r = 0; r < rows; ++r)
-                outside |= (pk::less(position[r], layout.lo[r]) | pk::greater_equal(position[r], layout.hi[r])) &
-                            layout.periodic[r];
-            if (outside) [[unlikely]] {  // Domain::wrap, particle by particle
-                alignas(64) double numbers[8 * dim];
-                for (int r = 0; r < rows; ++r) _mm512_store_pd(numbers + 8 * r, position[r]);
-                for (int l = 0; l < 8; ++l) {
-                    Vec<dim> xl = Eigen::Map<const Vec<dim>>(numbers + dim * l);
-                    domain.wrap(xl);
-                    Eigen::Map<Vec<dim>>(numbers + dim * l) = xl;
-                }
-                for (int r = 0; r < rows; ++r) position[r] = _mm512_load_pd(numbers + 8 * r);
-            }
-        }
-        Lane move[rows];
-        Mask far = 0;
-        for (int r = 0; r < rows; ++r) {
-            const std::size_t k = at + 8 * std::size_t(r);
-            _mm512_storeu_pd(x + k, position[r]);
-            move[r] = position[r] - _mm512_loadu_pd(reference + k);
-            if constexpr (periodic) far |= pk::nearest_image(move[r], layout.half[r], layout.period[r], 0xFF);
-        }
-        if constexpr (periodic) {
-            if (far) [[unlikely]] {  // a period or more from the reference: Domain::separation itself
-                alignas(64) double numbers[8 * dim];
-                for (int l = 0; l < 8; ++l) {
-                    const std::size_t i = 8 * p + std::size_t(l);
-                    Eigen::Map<Vec<dim>>(numbers + dim * l) =
-                        domain.separation(Eigen::Map<const Vec<dim>>(x + dim * i), Eigen::Map<const Vec<dim>>(reference + dim * i));
-                }
-                for (int r = 0; r < rows; ++r) move[r] = _mm512_load_pd(numbers + 8 * r);
-            }
-        }
-        Lane squared[rows];
-        for (int r = 0; r < rows; ++r) squared[r] = move[r] * move[r];
-        const Lane move_sq = layout.squares(squared);
-        // A NaN drops out of the maximum (max_pd returns its second operand when one is NaN), as
-        // in the scalar pass; the sum keeps it.
-        largest = _mm512_maskz_max_pd(0xFF, move_sq, largest);
-        sum = sum + move_sq;
-        if constexpr (rotation) {
-            const Lane inertia = _mm512_loadu_pd(inv_I + 8 * p);
-            for (int r = 0; r < spin_rows; ++r) {
-                const std::size_t k = 8 * spin_rows * p + 8 * std::size_t(r);
-                const Lane inv_inertia = dim == 2 ? inertia : layout.spread_over(inertia, r), moment = _mm512_loadu_pd(torque + k);
-                Lane spin = _mm512_loadu_pd(w + k);
+        const int shares = thread_count(), t = thread_number();
+        Lane largest = pk::zeros(), sum = pk::zeros();
+        for (std::size_t p = share_begin(count, t, shares), end = share_begin(count, t + 1, shares); p < end; ++p) {
+            const std::size_t at = 8 * dim * p;  // the packet's first number in the vector arrays
+            const Lane inverse_masses = _mm512_loadu_pd(inv_m + 8 * p);
+            Lane position[rows];
+            for (int r = 0; r < rows; ++r) {
+                const std::size_t k = at + 8 * std::size_t(r);
+                const Lane inv_mass = layout.spread_over(inverse_masses, r), force = _mm512_loadu_pd(f + k);
+                Lane velocity = _mm512_loadu_pd(v + k);
                 if constexpr (keeps_previous_forces) {
-                    if (h_closing != 0.0)
-                        spin = spin + (pk::broadcast(h_closing) * inv_inertia) * (moment - _mm512_loadu_pd(torque_old + k));
-                    _mm512_storeu_pd(torque_old + k, pk::zeros());
+                    if (h_closing != 0.0)  // force_change_kick
+                        velocity = velocity + (pk::broadcast(h_closing) * inv_mass) * (force - _mm512_loadu_pd(f_old + k));
+                    _mm512_storeu_pd(f_old + k, pk::zeros());
                 }
-                _mm512_storeu_pd(w + k, spin + (pk::broadcast(h_spin) * inv_inertia) * moment);
-                if constexpr (!keeps_previous_forces) _mm512_storeu_pd(torque + k, pk::zeros());
+                const Lane acceleration = inv_mass * force;
+                velocity = velocity + pk::broadcast(h_before) * acceleration;
+                position[r] = _mm512_loadu_pd(x + k) + pk::broadcast(dt) * velocity;
+                velocity = velocity + pk::broadcast(h_after) * acceleration;
+                _mm512_storeu_pd(v + k, velocity);
+                if constexpr (!keeps_previous_forces) _mm512_storeu_pd(f + k, pk::zeros());
+            }
+            if constexpr (periodic) {
+                Mask outside = 0;
+                for (int r = 0; r < rows; ++r)
+                    outside |= (pk::less(position[r], layout.lo[r]) | pk::greater_equal(position[r], layout.hi[r])) &
+                                layout.periodic[r];
+                if (outside) [[unlikely]] {  // Domain::wrap, particle by particle
+                    alignas(64) double numbers[8 * dim];
+                    for (int r = 0; r < rows; ++r) _mm512_store_pd(numbers + 8 * r, position[r]);
+                    for (int l = 0; l < 8; ++l) {
+                        Vec<dim> xl = Eigen::Map<const Vec<dim>>(numbers + dim * l);
+                        domain.wrap(xl);
+                        Eigen::Map<Vec<dim>>(numbers + dim * l) = xl;
+                    }
+                    for (int r = 0; r < rows; ++r) position[r] = _mm512_load_pd(numbers + 8 * r);
+                }
+            }
+            Lane move[rows];
+            Mask far = 0;
+            for (int r = 0; r < rows; ++r) {
+                const std::size_t k = at + 8 * std::size_t(r);
+                _mm512_storeu_pd(x + k, position[r]);
+                move[r] = position[r] - _mm512_loadu_pd(reference + k);
+                if constexpr (periodic) far |= pk::nearest_image(move[r], layout.half[r], layout.period[r], 0xFF);
+            }
+            if constexpr (periodic) {
+                if (far) [[unlikely]] {  // a period or more from the reference: Domain::separation itself
+                    alignas(64) double numbers[8 * dim];
+                    for (int l = 0; l < 8; ++l) {
+                        const std::size_t i = 8 * p + std::size_t(l);
+                        const Vec<dim> xi = Eigen::Map<const Vec<dim>>(x + dim * i), ri = Eigen::Map<const Vec<dim>>(reference + dim * i);
+                        Eigen::Map<Vec<dim>>(numbers + dim * l) = domain.separation(xi, ri);
+                    }
+                    for (int r = 0; r < rows; ++r) move[r] = _mm512_load_pd(numbers + 8 * r);
+                }
+            }
+            Lane squared[rows];
+            for (int r = 0; r < rows; ++r) squared[r] = move[r] * move[r];
+            const Lane move_sq = layout.squares(squared);
+            // A NaN drops out of the maximum (max_pd returns its second operand when one is NaN), as
+            // in the scalar pass; the sum keeps it.
+            largest = _mm512_maskz_max_pd(0xFF, move_sq, largest);
+            sum = sum + move_sq;
+            if constexpr (rotation) {
+                const Lane inverse_inertias = _mm512_loadu_pd(inv_I + 8 * p);
+                for (int r = 0; r < spin_rows; ++r) {
+                    const std::size_t k = 8 * spin_rows * p + 8 * std::size_t(r);
+                    const Lane inv_inertia = dim == 2 ? inverse_inertias : layout.spread_over(inverse_inertias, r);
+                    const Lane moment = _mm512_loadu_pd(torque + k);
+                    Lane spin = _mm512_loadu_pd(w + k);
+                    if constexpr (keeps_previous_forces) {
+                        if (h_closing != 0.0)
+                            spin = spin + (pk::broadcast(h_closing) * inv_inertia) * (moment - _mm512_loadu_pd(torque_old + k));
+                        _mm512_storeu_pd(torque_old + k, pk::zeros());
+                    }
+                    _mm512_storeu_pd(w + k, spin + (pk::broadcast(h_spin) * inv_inertia) * moment);
+                    if constexpr (!keeps_previous_forces) _mm512_storeu_pd(torque + k, pk::zeros());
+                }
             }
         }
-    }
-    alignas(64) double lanes[2][8];
-    _mm512_store_pd(lanes[0], largest);
-    _mm512_store_pd(lanes[1], sum);
-    for (int l = 0; l < 8; ++l) {
-        max_move_sq = lanes[0][l] > max_move_sq ? lanes[0][l] : max_move_sq;
-        sum_move_sq += lanes[1][l];
-    }
+        alignas(64) double lanes[2][8];
+        _mm512_store_pd(lanes[0], largest);
+        _mm512_store_pd(lanes[1], sum);
+        for (int l = 0; l < 8; ++l) {
+            max_move_sq = lanes[0][l] > max_move_sq ? lanes[0][l] : max_move_sq;
+            sum_move_sq += lanes[1][l];
+        }
     }
     return {max_move_sq, sum_move_sq};
 }
