@@ -21,6 +21,7 @@
 #include "micromacro/core/inline.hpp"
 #include "micromacro/core/packets.hpp"
 #include "micromacro/core/parallel.hpp"
+#include "micromacro/engine/force_change_kick.hpp"
 
 namespace micromacro::detail {
 
@@ -151,8 +152,8 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
                 const Lane inv_mass = layout.spread_over(inverse_masses, r), force = _mm512_loadu_pd(f + k);
                 Lane velocity = _mm512_loadu_pd(v + k);
                 if constexpr (keeps_previous_forces) {
-                    if (h_closing != 0.0)  // force_change_kick
-                        velocity = velocity + (pk::broadcast(h_closing) * inv_mass) * (force - _mm512_loadu_pd(f_old + k));
+                    if (h_closing != 0.0)
+                        velocity = force_change_kick(velocity, pk::broadcast(h_closing) * inv_mass, force, _mm512_loadu_pd(f_old + k));
                     _mm512_storeu_pd(f_old + k, pk::zeros());
                 }
                 const Lane acceleration = inv_mass * force;
@@ -213,7 +214,7 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
                     Lane spin = _mm512_loadu_pd(w + k);
                     if constexpr (keeps_previous_forces) {
                         if (h_closing != 0.0)
-                            spin = spin + (pk::broadcast(h_closing) * inv_inertia) * (moment - _mm512_loadu_pd(torque_old + k));
+                            spin = force_change_kick(spin, pk::broadcast(h_closing) * inv_inertia, moment, _mm512_loadu_pd(torque_old + k));
                         _mm512_storeu_pd(torque_old + k, pk::zeros());
                     }
                     _mm512_storeu_pd(w + k, spin + (pk::broadcast(h_spin) * inv_inertia) * moment);

@@ -11,6 +11,7 @@
 #include "micromacro/core/domain.hpp"
 #include "micromacro/core/inline.hpp"
 #include "micromacro/core/parallel.hpp"
+#include "micromacro/engine/force_change_kick.hpp"
 #include "micromacro/engine/packet_particle_pass.hpp"
 
 namespace micromacro::detail {
@@ -31,13 +32,6 @@ struct ParticleArrays {
     const Vec<dim, Real>* reference;  ///< positions at the last neighbour search
     std::size_t n;
 };
-
-/// v + h/m (F - F_old), or its rotational twin: the one formula of the force-change kick and of
-/// the closing kick merged into kick_drift_pass, so the two give the same bits.
-template <class U>
-MICROMACRO_INLINE U force_change_kick(const U& v, double h_over_mass, const U& now, const U& before) {
-    return U(v + h_over_mass * (now - before));
-}
 
 /// v += h/m (F - F_old) and w += h/I (T - T_old) for every particle.
 template <bool rotation, int dim, class Real>
