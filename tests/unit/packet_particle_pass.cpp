@@ -12,12 +12,13 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstring>
 #include <limits>
 #include <random>
 #include <vector>
 
 #include <micromacro/engine/particle_pass.hpp>
+
+#include "support/same_bits.hpp"
 
 namespace mm = micromacro;
 using mm::Vec;
@@ -90,19 +91,10 @@ Particles<dim> particles() {
     return p;
 }
 
-// Equal to the bit without fused multiply-adds, else within round-off of the scale.
-bool same(double a, double b, [[maybe_unused]] double scale) {
-#ifdef MICROMACRO_FP_CONTRACT
-    return std::abs(a - b) <= 1e-13 * scale;
-#else
-    return std::memcmp(&a, &b, sizeof a) == 0;
-#endif
-}
-template <int dim>
-bool same(const Vec<dim>& a, const Vec<dim>& b, double scale) {
-    for (int k = 0; k < dim; ++k)
-        if (!same(a[k], b[k], scale)) return false;
-    return true;
+// Equal to the bit without fused multiply-adds, else within 1e-13 of the scale.
+template <class T>
+bool same(const T& a, const T& b, double scale) {
+    return mmtest::same_bits(a, b, scale, 1e-13);
 }
 
 template <int dim, class T>

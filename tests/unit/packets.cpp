@@ -21,6 +21,8 @@
 #include <micromacro/engine/pair_loop.hpp>
 #include <micromacro/neighbors/linked_cells.hpp>
 
+#include "support/same_bits.hpp"
+
 namespace mm = micromacro;
 using mm::Vec;
 
@@ -76,7 +78,7 @@ Scene<dim, Real> scene() {
                 s.inverse_mass.push_back(Real(1.0 / (1.0 + unit(rng))));
             }
     const std::size_t n = s.x.size();
-    s.x[n - 1] = s.x[n - 2];                         // coincident centres
+    s.x[n - 1] = s.x[n - 2];                  // coincident centres
     for (std::size_t i = 10; i < n; i += 37)  // fast particles: their dashpots outpull their springs
         s.v[i] = Vec<dim>::Constant(i % 2 ? 300.0 : -300.0).template cast<Real>();
     mm::LinkedCells().find_pairs<dim, Real>(s.x, s.r, s.box, 0.2, s.pairs);
@@ -132,19 +134,11 @@ Result<dim> run(const Scene<dim, Real>& s, mm::Index owned_end, mm::Index first_
     return out;
 }
 
-// Equal to the bit without fused multiply-adds, else within round-off of the scale.
-bool same(double a, double b, [[maybe_unused]] double scale) {
-#ifdef MICROMACRO_FP_CONTRACT
-    return std::abs(a - b) <= 1e-11 * scale;
-#else
-    return std::memcmp(&a, &b, sizeof a) == 0 || (a == 0.0 && b == 0.0);
-#endif
-}
-template <int dim>
-bool same(const Vec<dim>& a, const Vec<dim>& b, double scale) {
-    for (int k = 0; k < dim; ++k)
-        if (!same(a[k], b[k], scale)) return false;
-    return true;
+// Equal to the bit without fused multiply-adds (zeros of either sign alike), else within 1e-11
+// of the scale.
+template <class T>
+bool same(const T& a, const T& b, double scale) {
+    return mmtest::same_bits(a, b, scale, 1e-11, true);
 }
 double magnitude(double a) { return std::abs(a); }
 template <int dim>
