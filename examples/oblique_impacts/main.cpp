@@ -26,6 +26,7 @@
 
 #include "../command_line.hpp"
 
+#include <micromacro/io/whole_file.hpp>
 #include <micromacro/micromacro.hpp>
 
 namespace mm = micromacro;
@@ -214,18 +215,12 @@ int main(int argc, char** argv) {
     md << "\n## 3D\n\n";
     table<3>(md, cases, steps, phases);
 
-    const std::filesystem::path path(out), partial(out + ".partial");
-    {
-        std::ofstream f(partial);
-        f << md.str();
-        f.close();
-        if (!f) {
-            std::filesystem::remove(partial);
-            std::fprintf(stderr, "oblique_impacts: cannot write %s; check the directory and the disk\n", partial.c_str());
-            return 1;
-        }
+    try {
+        micromacro::io::write_whole_file(out, md.str());
+    } catch (const std::exception& e) {
+        std::fprintf(stderr, "oblique_impacts: %s\n", e.what());
+        return 1;
     }
-    std::filesystem::rename(partial, path);
     std::printf("wrote %s\n", out.c_str());
     return 0;
 }

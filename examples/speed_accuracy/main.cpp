@@ -25,6 +25,7 @@
 
 #include <CLI/CLI.hpp>
 #include <boost/math/distributions/students_t.hpp>
+#include <micromacro/io/whole_file.hpp>
 
 #include "../biaxial/biaxial.hpp"
 #include "../command_line.hpp"
@@ -300,17 +301,6 @@ std::string svg_panel(double x0, double y0, double w, double h, const std::strin
     return o.str();
 }
 
-// Writes `text` to `path` through a temporary file, so an interrupted run leaves no half file.
-void write_atomically(const fs::path& path, const std::string& text) {
-    const fs::path partial = path.string() + ".partial";
-    {
-        std::ofstream f(partial);
-        f << text;
-        if (!f) mm::throw_input_error("cannot write ", partial.string());
-    }
-    fs::rename(partial, path);
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -320,7 +310,8 @@ int main(int argc, char** argv) {
     std::size_t particles = 300;
     int seeds = 1, jobs = 1;
     app.add_option("--out-dir", out_dir, "where speed-accuracy.md and speed-accuracy.svg go")->capture_default_str();
-    app.add_option("--particles", particles, "particles of the biaxial runs (the quick preset's 300)")->capture_default_str();
+    auto* particles_option =
+        app.add_option("--particles", particles, "particles of the biaxial runs (the quick preset's 300)")->capture_default_str();
     app.add_option("--seeds", seeds, "packings per biaxial row; the row shows their mean (the docs use 4)")
         ->capture_default_str()
         ->check(CLI::Range(1, 100));
@@ -331,6 +322,9 @@ int main(int argc, char** argv) {
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
     try {
+        if (tiny && particles_option->count())
+            mm::throw_input_error("--tiny runs 40 particles and would ignore --particles ", particles,
+                                  "; drop --particles, or drop --tiny for a run of that size");
         std::error_code ec;
         fs::create_directories(out_dir, ec);
         if (ec || !fs::is_directory(out_dir)) mm::throw_input_error("--out-dir ", out_dir, " is not a writable directory");
@@ -546,7 +540,7 @@ int main(int argc, char** argv) {
         for (const auto& k : kernels)
             md << "| " << k.width_in_diameters << " | " << format("%.3f", k.seconds) << " | " << percent(k.rms) << " | "
                << percent(k.bias) << " |\n";
-        write_atomically(fs::path(out_dir) / "speed-accuracy.md", md.str());
+        mm::io::write_whole_file(fs::path(out_dir) / "speed-accuracy.md", md.str());
 
         // ---- the plot ----------------------------------------------------------------------
         std::vector<Series> left{{"velocity Verlet", "#1f77b4", {}}, {"symplectic Euler", "#d62728", {}},
@@ -587,7 +581,7 @@ int main(int argc, char** argv) {
                          "relative error vs reference", right, floor_error)
             << svg_panel(1000, 0, 500, 400, "Biaxial: energy-balance residual", "t_c(mean) / dt", "|residual| / work in", residual)
             << "</svg>\n";
-        write_atomically(fs::path(out_dir) / "speed-accuracy.svg", svg.str());
+        mm::io::write_whole_file(fs::path(out_dir) / "speed-accuracy.svg", svg.str());
         say("wrote " + (fs::path(out_dir) / "speed-accuracy.md").string() + " and .svg");
         return 0;
     } catch (const std::exception& e) {

@@ -199,7 +199,7 @@ BOOST_AUTO_TEST_CASE(unknown_wall_motion_is_refused) {
     const auto at = std::search(bytes.begin(), bytes.end(), known.begin(), known.end());
     BOOST_REQUIRE(at != bytes.end());
     std::copy(unknown.begin(), unknown.end(), at);
-    mm::io::detail::Checksum sum;  // a valid checksum, so that the name itself is what is refused
+    mm::io::Checksum sum;  // a valid checksum, so that the name itself is what is refused
     sum.add(bytes.data(), bytes.size() - sizeof(std::uint64_t));
     std::memcpy(bytes.data() + bytes.size() - sizeof(std::uint64_t), &sum.value, sizeof sum.value);
     {

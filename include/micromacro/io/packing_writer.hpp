@@ -22,7 +22,7 @@ void write_lammps_dump(const std::filesystem::path& path, const std::vector<Vec<
                        const Domain<dim>& domain) {
     if (x.size() != r.size())
         micromacro::detail::throw_input_error("write_lammps_dump: ", x.size(), " centres and ", r.size(), " radii; give one radius per centre");
-    detail::write_whole_file(path, std::ios::out, [&](std::ofstream& out) {
+    write_whole_file(path, std::ios::out, [&](std::ofstream& out) {
         char text[256];
         out << "ITEM: TIMESTEP\n0\nITEM: NUMBER OF ATOMS\n" << x.size() << "\nITEM: BOX BOUNDS";
         for (int a = 0; a < 3; ++a) out << (a < dim && !domain.periodic(a) ? " ff" : " pp");

@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "micromacro/core/error.hpp"
+#include "micromacro/io/checksum.hpp"
 #include "micromacro/io/whole_file.hpp"
 
 namespace micromacro::io {
@@ -36,16 +37,6 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 // 8: 2D tangential springs as components along the tangent (24-byte records)
 // 9: forces and torques in double whatever the storage precision
 inline constexpr std::uint32_t state_version = 9;
-
-/// 64-bit FNV-1a, continued over successive pieces. Any change confined to one byte changes it
-/// (each step is a bijection of the running value); other changes go unseen with chance 2^-64.
-struct Checksum {
-    std::uint64_t value = 14695981039346656037ull;
-    void add(const void* p, std::size_t n) {
-        const auto* b = static_cast<const unsigned char*>(p);
-        for (std::size_t k = 0; k < n; ++k) value = (value ^ b[k]) * 1099511628211ull;
-    }
-};
 
 class StateWriter {
 public:
@@ -118,19 +109,11 @@ inline std::uint64_t verify_state_file(const std::filesystem::path& path) {
     if (size < sizeof magic + sizeof(std::uint32_t) + sizeof(std::uint64_t))
         micromacro::detail::throw_input_error(path.string(), ": the state file is truncated or damaged");
     const std::uint64_t contents = size - sizeof(std::uint64_t);
-    Checksum sum;
-    sum.add(magic, sizeof magic);
-    std::vector<char> chunk(1 << 16);
-    for (std::uint64_t done = sizeof magic; done < contents;) {
-        const auto n = static_cast<std::streamsize>(std::min<std::uint64_t>(chunk.size(), contents - done));
-        in.read(chunk.data(), n);
-        if (in.gcount() != n) micromacro::detail::throw_input_error(path.string(), ": the state file could not be read");
-        sum.add(chunk.data(), static_cast<std::size_t>(n));
-        done += static_cast<std::uint64_t>(n);
-    }
+    const std::uint64_t sum = checksum_of_file(path, contents);  // the magic word included
+    in.seekg(static_cast<std::streamoff>(contents));
     std::uint64_t stored = 0;
     in.read(reinterpret_cast<char*>(&stored), sizeof stored);
-    if (stored != sum.value)
+    if (!in || stored != sum)
         micromacro::detail::throw_input_error(path.string(), ": the state file is damaged (its checksum does not match its ",
                                               "contents: it was truncated, edited or corrupted after it was written); use ",
                                               "another copy or make it again");
@@ -154,7 +137,7 @@ std::string signature() {
 /// as a state of the given kind (a word load_state can insist on, e.g. "prepared", "checkpoint").
 template <class Sim>
 void save_state(Sim& sim, const std::filesystem::path& path, std::string extra = {}, std::string kind = "state") {
-    detail::write_whole_file(path, std::ios::binary, [&](std::ofstream& out) {
+    write_whole_file(path, std::ios::binary, [&](std::ofstream& out) {
         detail::StateWriter w(out);
         w.raw_bytes(detail::state_magic, sizeof detail::state_magic);
         std::uint32_t version = detail::state_version;
