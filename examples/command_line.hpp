@@ -1,21 +1,65 @@
 #pragma once
 // The command line of every program here, parsed as the README promises: --help prints the usage
-// and exits 0; an unknown option, a bad value or a missing argument prints CLI11's message and
-// exits 1 (CLI11's own codes, 105-114, say which kind of parse error, which no caller needs).
+// and exits 0; an unknown option, a bad, empty or repeated value or a missing argument prints a
+// message naming the program and exits 1 (CLI11's own codes, 105-114, say which kind of parse
+// error, which no caller needs).
 #include <CLI/CLI.hpp>
 
 #include <cmath>
 #include <sstream>
 #include <string>
+#include <string_view>
 
-#define MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv)      \
-    try {                                                 \
-        (app).parse((argc), (argv));                      \
-    } catch (const CLI::ParseError& parse_error) {        \
-        return (app).exit(parse_error) == 0 ? 0 : 1;      \
+#define MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv)                      \
+    try {                                                                 \
+        micromacro::cli::prepare_parse((app), (argc), (argv));            \
+        (app).parse((argc), (argv));                                      \
+    } catch (const CLI::ParseError& parse_error) {                        \
+        return (app).exit(parse_error) == 0 ? 0 : 1;                      \
     }
 
 namespace micromacro::cli {
+
+/// A parse error as every program states it: its name first, then what was wrong and the fix, then
+/// where to read more. CLI11's "--preset: At Most 1 required but received 2" names no program and
+/// no fix, so that one is said again in words.
+inline std::string failure_message(const CLI::App* app, const CLI::Error& e) {
+    std::string what = e.what();
+    const std::string repeated = ": At Most 1 required but received ";
+    if (const auto at = what.find(repeated); at != std::string::npos)
+        what = what.substr(0, at) + " was given " + what.substr(at + repeated.size()) +
+               " times; give it once (a later one does not replace an earlier one)";
+    return app->get_name() + ": " + what + "\nRun " + app->get_name() + " --help for every option, its unit and its limits.\n";
+}
+
+/// An argument left empty (`--mu ''`, `--mu=`): CLI11 would read an empty number as 0, so an empty
+/// value is refused as a missing one, for every option of every program.
+inline void refuse_empty_values(int argc, const char* const* argv) {
+    for (int i = 1; i < argc; ++i) {
+        const std::string_view arg = argv[i];
+        if (arg == "--") return;  // what follows is positional, as the user wrote it
+        if (arg.empty()) {
+            const std::string_view before = i > 1 ? argv[i - 1] : "";
+            if (before.size() > 1 && before[0] == '-')
+                throw CLI::ValidationError(std::string(before), "the value is empty; give a value (an empty one is not read as 0)");
+            throw CLI::ValidationError("argument " + std::to_string(i) + " is empty; give a value or leave it out");
+        }
+        if (arg.size() > 3 && arg.substr(0, 2) == "--" && arg.back() == '=')
+            throw CLI::ValidationError(std::string(arg.substr(0, arg.size() - 1)),
+                                       "the value after '=' is empty; give a value (an empty one is not read as 0)");
+    }
+}
+
+/// What MICROMACRO_PARSE_COMMAND_LINE does before CLI11 parses: the program named as typed
+/// (without its directory) in the usage and the messages, the messages above, empty values refused.
+inline void prepare_parse(CLI::App& app, int argc, const char* const* argv) {
+    if (app.get_name().empty() && argc > 0) {
+        const std::string_view path = argv[0];
+        app.name(std::string(path.substr(path.find_last_of('/') == std::string_view::npos ? 0 : path.find_last_of('/') + 1)));
+    }
+    app.failure_message(failure_message);
+    refuse_empty_values(argc, argv);
+}
 
 /// A check of a real number: it must parse, be finite and pass `rule`; else CLI11's error names
 /// the option, the value and the rule ("--skin: nan is not a finite number above 0"). CLI11's

@@ -37,7 +37,11 @@ int main(int argc, char** argv) {
         return 0;
     }
     if (argc != 2) {
-        std::fprintf(stderr, "%s", usage.c_str());
+        std::fprintf(stderr, "biaxial_summary: %d arguments given, one run directory expected\n%s", argc - 1, usage.c_str());
+        return 1;
+    }
+    if (argv[1][0] == '\0') {
+        std::fprintf(stderr, "biaxial_summary: the run directory is empty; give the --out of a finished biaxial run\n%s", usage.c_str());
         return 1;
     }
     if (argv[1][0] == '-') {

@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
     MPI_Comm_rank(MPI_COMM_WORLD, &rank);
     int status = 0;
     try {
+        mm::cli::prepare_parse(app, argc, argv);
         app.parse(argc, argv);
         if (!o.packing.empty()) {
             o.format = mm::io::guess_format(o.packing);
