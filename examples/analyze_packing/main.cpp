@@ -19,11 +19,13 @@
 #include <CLI/CLI.hpp>
 
 #include "../command_line.hpp"
+#include "../output_paths.hpp"
 #include "../standard_output.hpp"
 
 #include <micromacro/io/json.hpp>
 #include <micromacro/io/contact_force_files.hpp>
 #include <micromacro/io/packing_files.hpp>
+#include <micromacro/io/whole_file.hpp>
 #include <micromacro/micromacro.hpp>
 
 namespace mm = micromacro;
@@ -133,10 +135,7 @@ int main(int argc, char** argv) {
 
     try {
         selection_rule(o.rule);  // refuse a bad option before reading anything
-        std::error_code ec;
-        for (const std::string& read : {o.input, o.contact_forces})
-            if (!o.output.empty() && !read.empty() && std::filesystem::equivalent(read, o.output, ec))
-                mm::throw_input_error("-o ", o.output, " is the input ", read, "; write the averages to another file");
+        mm::cli::refuse_writing_over_inputs(o.output, "-o", {{"the input", o.input}, {"--contact-forces", o.contact_forces}});
         const auto format = o.format.empty() ? mm::io::guess_format(o.input)
                             : o.format == "lammps" ? mm::io::PackingFormat::lammps_dump
                                                    : mm::io::PackingFormat::csv;
@@ -147,16 +146,7 @@ int main(int argc, char** argv) {
             std::cout << text;
             if (!standard_output_complete()) mm::throw_input_error("cannot write to standard output (is the disk full?)");
         } else {
-            const std::string partial = o.output + ".partial";
-            {
-                std::ofstream out(partial);
-                if (!(out << text) || !(out.flush())) {
-                    std::remove(partial.c_str());
-                    mm::throw_input_error("cannot write ", partial, "; check that the directory exists and is writable");
-                }
-            }
-            if (std::rename(partial.c_str(), o.output.c_str()) != 0)
-                mm::throw_input_error("cannot rename ", partial, " to ", o.output);
+            mm::io::write_whole_file(o.output, text);
         }
         return 0;
     } catch (const std::exception& e) {

@@ -123,8 +123,7 @@ BOOST_AUTO_TEST_CASE(contact_force_file) {
     for (int j = 0; j < 4; ++j)
         for (int i = 0; i < 4; ++i) csv << id++ << "," << num((i + 0.5) * l) << "," << num((j + 0.5) * l) << "," << num(0.5 * l * (1 + 1e-9)) << "\n";
     forces << "i,j,ft_x,ft_z\n";
-    forces << "101,100,0,0.5\n";   // on 101 from its left neighbour 100: +0.5 N along z
-    forces << "100,101,0.01,-0.25\n";  // the same contact given again from the other side overrides it (normal part dropped)
+    forces << "100,101,0.01,-0.25\n";  // on 100 from its right neighbour 101 (the normal part is dropped)
     const auto packing = write("square.csv", csv.str()), force_file = write("forces.csv", forces.str());
     const std::string box = " --box 0 " + num(4 * l) + " 0 " + num(4 * l) + " --periodic x,z";
     const auto r = run(packing + box + " --contact-forces " + force_file);
@@ -140,6 +139,11 @@ BOOST_AUTO_TEST_CASE(contact_force_file) {
     const auto bad = run(packing + box + " --contact-forces " + apart);
     BOOST_TEST(bad.status != 0);
     BOOST_TEST(bad.err.find("apart.csv:2: particles 100 and 110 do not overlap") != std::string::npos, bad.err);
+    const auto twice = write("twice.csv", "i,j,ft_x,ft_z\n100,101,0,1\n101,100,0,2\n");  // one contact, two forces
+    const auto repeated = run(packing + box + " --contact-forces " + twice);
+    BOOST_TEST(repeated.exit_code() == 1);
+    BOOST_TEST(repeated.err.find("twice.csv:3: lists the contact of particles 101 and 100 again (first on line 2)") != std::string::npos,
+               repeated.err);
     const auto unknown = write("unknown.csv", "i,j,ft_x,ft_z\n100,7,0,1\n");
     BOOST_TEST(run(packing + box + " --contact-forces " + unknown).err.find("unknown.csv:2: particle id 7 is not in the packing") !=
                std::string::npos);
@@ -173,6 +177,12 @@ BOOST_AUTO_TEST_CASE(bad_inputs_name_file_and_line) {
         {"one.csv", "x,z,r\n0,0,1e-3\n", "", "one.csv holds one particle; averages need a packing"},
         {"huge.csv", "x,z,r\n0,0,1e300\n1,0,1e300\n", "", "is not finite: the file's values overflow"},
         {"huge_id.csv", "id,x,z,r\n1e300,0,0,1e-3\n", "", "huge_id.csv:2: column 'id': '1e300' is not a whole number"},
+        // Ambiguous files: which column or which particle was meant cannot be told.
+        {"two_sizes.csv", "x,z,r,diameter\n0,0,1e-3,3e-3\n2e-3,0,1e-3,2e-3\n", "",
+         "two_sizes.csv:1: the header has more than one size column ('r', 'diameter'); keep one of them"},
+        {"two_x.csv", "x,z,r,x\n0,0,1e-3,5\n2e-3,0,1e-3,6\n", "", "two_x.csv:1: column 'x' is named twice (fields 1 and 4)"},
+        {"two_ids.dump", "ITEM: ATOMS id x y z radius\n1 0 0 0 1e-3\n2 2e-3 0 0 1e-3\n1 4e-3 0 0 1e-3\n", "--dim 2",
+         "two_ids.dump:4: particle id 1 is taken by the particle on line 2 already"},
     };
     for (const auto& c : cases) {
         const auto path = write(c.name, c.text);

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "micromacro/core/dim_traits.hpp"
@@ -21,7 +22,7 @@ struct ContactForceRecord {
 };
 
 /// Tangential contact forces from a CSV file with columns i, j and ft_x, ft_z (2D) or ft_x, ft_y,
-/// ft_z (3D).
+/// ft_z (3D), each contact on one line (a pair listed twice, in either order, is refused).
 template <int dim>
 std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path) {
     std::vector<ContactForceRecord<dim>> out;
@@ -48,6 +49,17 @@ std::vector<ContactForceRecord<dim>> read_contact_forces(const std::string& path
             r.line = line;
             out.push_back(r);
         });
+    // One line per contact: a pair listed twice (in either order) would leave its force to
+    // whichever line came last.
+    std::vector<std::size_t> order(out.size());
+    for (std::size_t q = 0; q < order.size(); ++q) order[q] = q;
+    auto pair = [&](std::size_t q) { return std::pair{std::min(out[q].i, out[q].j), std::max(out[q].i, out[q].j)}; };
+    std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) { return pair(a) < pair(b) || (pair(a) == pair(b) && a < b); });
+    for (std::size_t q = 1; q < order.size(); ++q)
+        if (pair(order[q]) == pair(order[q - 1]))
+            file_error(path, out[order[q]].line, "lists the contact of particles " + std::to_string(out[order[q]].i) + " and " +
+                                                     std::to_string(out[order[q]].j) + " again (first on line " +
+                                                     std::to_string(out[order[q - 1]].line) + "); give each contact once");
     return out;
 }
 

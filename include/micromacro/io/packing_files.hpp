@@ -3,9 +3,9 @@
 // error names the file and the line. Needs only the standard library (no VTK).
 //
 // CSV: a header line naming the columns, then one particle per line. 2D needs x, z and r
-// (the paper's coordinates), 3D needs x, y, z and r; `radius` may stand for r and `diameter`
-// for 2 r; an `id` column is optional; other columns are ignored. Blank lines and lines
-// starting with # are skipped.
+// (the paper's coordinates), 3D needs x, y, z and r; `radius` or `diameter` (2 r) may stand for
+// r, but only one of the three; an `id` column is optional, each id once; a column the reader
+// uses named twice is refused; other columns are ignored. Blank lines and # lines are skipped.
 // LAMMPS: the first snapshot of a text dump: ITEM: BOX BOUNDS (orthogonal box; pp marks a
 // periodic axis) and ITEM: ATOMS with x y z and radius or diameter (2D uses x and y).
 // `read_packing` reads either, `packing_domain` settles the box: the programs that take a
@@ -121,6 +121,14 @@ void read_csv_rows(const std::string& path, Header&& header, Row&& row) {
 template <int dim>
 void check_particles(PackingFile<dim>& f, const std::string& path) {
     if (f.position.empty()) file_error(path, 0, "the file holds no particles");
+    // Ids name particles (contact-force files refer to them): each once.
+    std::vector<std::size_t> by_id(f.id.size());
+    std::iota(by_id.begin(), by_id.end(), 0);
+    std::sort(by_id.begin(), by_id.end(), [&](std::size_t a, std::size_t b) { return f.id[a] < f.id[b] || (f.id[a] == f.id[b] && a < b); });
+    for (std::size_t q = 1; q < by_id.size(); ++q)
+        if (f.id[by_id[q]] == f.id[by_id[q - 1]])
+            file_error(path, f.line[by_id[q]], "particle id " + std::to_string(f.id[by_id[q]]) + " is taken by the particle on line " +
+                                                   std::to_string(f.line[by_id[q - 1]]) + " already; give each particle its own id");
     // Identical centres: sort by position and compare neighbours.
     std::vector<std::size_t> order(f.position.size());
     std::iota(order.begin(), order.end(), 0);
@@ -159,12 +167,23 @@ void locate(const std::vector<std::string>& names, const std::array<const char*,
             const std::string& path, std::size_t line) {
     auto find = [&](const std::string& n) {
         const auto it = std::find(names.begin(), names.end(), n);
+        if (it != names.end())
+            if (const auto again = std::find(it + 1, names.end(), n); again != names.end())
+                file_error(path, line, "column '" + n + "' is named twice (fields " + std::to_string(it - names.begin() + 1) + " and " +
+                                           std::to_string(again - names.begin() + 1) + "), so which one it is is ambiguous; "
+                                           "rename or remove one");
         return it == names.end() ? -1 : static_cast<int>(it - names.begin());
     };
     for (int a = 0; a < dim; ++a) {
         columns[a] = find(coordinates[a]);
         if (columns[a] < 0) file_error(path, line, std::string("missing column '") + coordinates[a] + "'");
     }
+    // One column gives the size: two could disagree, and which one was meant cannot be told.
+    std::string sizes;
+    for (const char* name : {"r", "radius", "diameter"})
+        if (find(name) >= 0) sizes += (sizes.empty() ? "'" : ", '") + std::string(name) + "'";
+    if (sizes.find(',') != std::string::npos)
+        file_error(path, line, "the header has more than one size column (" + sizes + "); keep one of them");
     radius_factor = 1.0;
     radius_column = find("r");
     if (radius_column < 0) radius_column = find("radius");
