@@ -15,12 +15,13 @@ namespace benchmark {
 /// n particles (positions x, radii r) on the lattice, in the periodic cube [0, L)^dim.
 template <int dim>
 void fill_lattice(std::vector<micromacro::Vec<dim>>& x, std::vector<double>& r, double& L, std::size_t n, unsigned seed) {
+    // Each periodic axis must hold two interaction ranges (2.2 spacings with the default skin): a
+    // lattice 3 particles wide, full.
+    const std::size_t fewest = dim == 2 ? 9 : 27;
+    if (n < fewest)
+        micromacro::detail::throw_input_error("--particles ", n, " is too few: the periodic box needs a full lattice at least 3 ",
+                                              "particles wide, ", fewest, " in ", dim, "D; use --particles ", fewest, " or more");
     const int per_side = static_cast<int>(std::ceil(std::pow(double(n), 1.0 / dim) - 1e-9));
-    // Each periodic axis must hold two interaction ranges (2.2 spacings with the default skin).
-    if (per_side < 3)
-        micromacro::detail::throw_input_error("--particles ", n, " makes a lattice ", per_side,
-                                              " particles wide, and the periodic box needs at least 3 per side; use --particles ",
-                                              dim == 2 ? 9 : 27, " or more");
     const double spacing = 2e-3;
     L = per_side * spacing;
     std::mt19937_64 rng(seed);

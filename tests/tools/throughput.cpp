@@ -181,7 +181,9 @@ BOOST_AUTO_TEST_CASE(bad_input_is_refused_with_a_message_and_no_result) {
         {"--packing " + file, "the contact is overdamped"},  // 0.1 kg/s on 0.1 mm particles
         {"--packing " + file + " --particles 100", "--particles excludes --packing"},
         {"--box 0 1 0 1", "--box requires --packing"},
-        {"--particles 3", "--particles 3 makes a lattice 2 particles wide"},
+        {"--particles 3", "--particles 3 is too few: the periodic box needs a full lattice at least 3 particles wide, 9 in 2D"},
+        {"--particles 5", "--particles 5 is too few: the periodic box needs a full lattice at least 3 particles wide, 9 in 2D"},
+        {"--dim 3 --particles 20", "--particles 20 is too few: the periodic box needs a full lattice at least 3 particles wide, 27 in 3D"},
         {"--steps 0", "--steps: Value 0 not in range"},
         {"--dt-fraction 50 --dt 1e-7", "excludes"},
         {"--law elastic", "--law"},
