@@ -18,7 +18,7 @@
 #   scripts/vs_lammps.sh > docs/vs-lammps.md   # 3 rounds, about 10 minutes on 2 cores (packings: 5 more, once)
 #   RUNS=5 scripts/vs_lammps.sh
 #   NATIVE=1 scripts/vs_lammps.sh        # also a LAMMPS built -O3 -march=native from Debian's source
-#                                        # (downloaded and built once into ~/.cache, about 15 minutes)
+#                                        # (apt-get source, built once into ~/.cache, about 15 minutes)
 #   CASES=$'random3d_50000 3 1\nlattice2d_80000 2 2 ranks' scripts/vs_lammps.sh   # other cases, one per line:
 #                                        # random2d_N, random3d_N, lattice2d_N or lattice3d_N, dim, threads,
 #                                        # and "ranks" for MPI ranks instead of threads
@@ -46,11 +46,20 @@ if [ "${NATIVE:-0}" = 1 ]; then
   native=$home/build/lmp
   if [ ! -x "$native" ]; then
     version=$(dpkg-query -W -f '${Version}' lammps)
-    upstream=${version%-*}
-    url="http://deb.debian.org/debian/pool/main/l/lammps/lammps_${upstream}.orig.tar.xz"
-    echo "building an -O3 -march=native LAMMPS from $url (once)" >&2
-    rm -rf "$home" && mkdir -p "$home/src"
-    curl -fsSL "$url" | tar -xJ --strip-components=1 -C "$home/src"
+    echo "building an -O3 -march=native LAMMPS from Debian's source of lammps $version (once)" >&2
+    rm -rf "$home" && mkdir -p "$home/apt/parts" "$home/apt/lists/partial" "$home/apt/cache" "$home/source"
+    # apt-get source through a source list of its own, made from the machine's entries with
+    # deb-src for deb and dropped afterwards: the machine's apt configuration is not touched.
+    grep -hsE '^deb ' /etc/apt/sources.list /etc/apt/sources.list.d/*.list | sed 's/^deb /deb-src /' >"$home/apt/sources.list" || true
+    for f in /etc/apt/sources.list.d/*.sources; do
+      if [ -f "$f" ]; then sed -E 's/^Types:.*/Types: deb-src/' "$f" >"$home/apt/parts/$(basename "$f")"; fi
+    done
+    apt_own=(-o Dir::Etc::SourceList="$home/apt/sources.list" -o Dir::Etc::SourceParts="$home/apt/parts"
+             -o Dir::State::Lists="$home/apt/lists" -o Dir::Cache="$home/apt/cache" -o Debug::NoLocking=1)
+    apt-get "${apt_own[@]}" update -qq >&2
+    (cd "$home/source" && apt-get "${apt_own[@]}" source -qq "lammps=$version" >&2)
+    rm -rf "$home/apt"
+    mv "$home/source"/lammps-*/ "$home/src"
     cmake -S "$home/src/cmake" -B "$home/build" -DCMAKE_BUILD_TYPE=Release -DCMAKE_CXX_FLAGS_RELEASE="-O3 -march=native" \
       -DPKG_GRANULAR=on -DBUILD_MPI=off -DBUILD_OMP=off -DBUILD_SHARED_LIBS=off -DLAMMPS_EXCEPTIONS=off >&2
     cmake --build "$home/build" -j2 >&2
