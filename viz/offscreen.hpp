@@ -7,12 +7,16 @@
 #include <regex>
 #include <stdexcept>
 #include <string>
+#include <system_error>
 #include <utility>
 
+#include <vtkErrorCode.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
 #include <vtkRenderWindow.h>
 #include <vtkWindowToImageFilter.h>
+
+#include <micromacro/io/vtk_messages.hpp>
 
 namespace viz {
 
@@ -28,9 +32,12 @@ inline void require_display(const std::string& program) {
 /// WIDTHxHEIGHT, each 16..8192 pixels.
 inline std::pair<int, int> parse_size(const std::string& size) {
     std::smatch m;
-    if (!std::regex_match(size, m, std::regex("([0-9]{1,5})x([0-9]{1,5})"))) fail("--size '" + size + "' is not WIDTHxHEIGHT");
-    const int width = std::stoi(m[1]), height = std::stoi(m[2]);
-    if (width < 16 || height < 16 || width > 8192 || height > 8192) fail("--size " + size + " is outside 16..8192 pixels");
+    if (!std::regex_match(size, m, std::regex("([0-9]+)x([0-9]+)")))
+        fail("--size '" + size + "' is not WIDTHxHEIGHT (e.g. 1000x800, each 16..8192 pixels)");
+    auto pixels = [](const std::string& digits) { return digits.size() > 5 ? 100000 : std::stoi(digits); };  // beyond the limit either way
+    const int width = pixels(m[1]), height = pixels(m[2]);
+    if (width < 16 || height < 16 || width > 8192 || height > 8192)
+        fail("--size " + size + " is outside 16..8192 pixels per side; give e.g. --size 1000x800");
     return {width, height};
 }
 
@@ -45,11 +52,22 @@ inline void write_png(vtkRenderWindow* window, const std::filesystem::path& path
     grab->Update();
     const std::filesystem::path partial = path.string() + ".partial.png";
     vtkNew<vtkPNGWriter> png;
+    const micromacro::io::VtkMessages vtk_said(png);  // quoted below, not printed by VTK first
     png->SetFileName(partial.string().c_str());
     png->SetInputConnection(grab->GetOutputPort());
     png->Write();
-    if (!std::filesystem::is_regular_file(partial)) fail("cannot write " + path.string());
-    std::filesystem::rename(partial, path);
+    // A full disk leaves a truncated file and only an error code: checked, and the file removed.
+    if (png->GetErrorCode() != vtkErrorCode::NoError || vtk_said.any_error() || !std::filesystem::is_regular_file(partial)) {
+        std::error_code ignored;
+        std::filesystem::remove(partial, ignored);
+        const unsigned long code = png->GetErrorCode();
+        fail("cannot write " + path.string() + " (" +
+             (code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code) : std::string("no error code")) +
+             (vtk_said.text().empty() ? "" : ": " + vtk_said.text()) + "; is the disk full or the directory not writable?)");
+    }
+    std::error_code renamed;
+    std::filesystem::rename(partial, path, renamed);
+    if (renamed) fail("cannot rename " + partial.string() + " to " + path.string() + ": " + renamed.message());
 }
 
 }  // namespace viz

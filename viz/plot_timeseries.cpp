@@ -35,8 +35,11 @@
 #include <vtkTextProperty.h>
 #include <vtkWindowToImageFilter.h>
 
+#include <micromacro/io/whole_file.hpp>
+
 #include "../examples/biaxial/timeseries.hpp"
 #include "../examples/command_line.hpp"
+#include "../examples/output_paths.hpp"
 #include "offscreen.hpp"
 
 namespace fs = std::filesystem;
@@ -101,11 +104,12 @@ void plot(const fs::path& path, const std::string& title, const std::string& xla
     viz::write_png(view->GetRenderWindow(), path);
     // The plot area (pixels from the bottom-left) and the axis ranges.
     const auto p1 = chart->GetPoint1(), p2 = chart->GetPoint2();
-    std::ofstream side(path.string() + ".json");
-    side.precision(17);
-    side << "{\"width\": " << width << ", \"height\": " << height << ", \"plot_area\": [" << p1[0] << ", " << p1[1] << ", "
-         << p2[0] << ", " << p2[1] << "], \"x_range\": [" << xmin << ", " << xmax << "], \"y_range\": [" << ymin - pad
-         << ", " << ymax + pad << "]}\n";
+    micromacro::io::write_whole_file(path.string() + ".json", std::ios::out, [&](std::ofstream& side) {
+        side.precision(17);
+        side << "{\"width\": " << width << ", \"height\": " << height << ", \"plot_area\": [" << p1[0] << ", " << p1[1]
+             << ", " << p2[0] << ", " << p2[1] << "], \"x_range\": [" << xmin << ", " << xmax << "], \"y_range\": ["
+             << ymin - pad << ", " << ymax + pad << "]}\n";
+    });
 }
 }  // namespace
 
@@ -171,6 +175,9 @@ int main(int argc, char** argv) {
         charts.push_back({"volumetric.png", "Volumetric strain", "volumetric strain (1, compaction > 0)",
                           {{"volumetric strain", get("volumetric_strain")}}});
         if (eps.size() < 2) fail(input + " has " + std::to_string(eps.size()) + " rows; a plot needs at least 2");
+        for (const auto& c : charts)
+            for (const fs::path file : {fs::path(out) / c.file, fs::path(out) / (c.file + ".json")})
+                micromacro::cli::refuse_writing_over_inputs(file, "--out", {{"the input", input}});
         std::error_code ec;
         fs::create_directories(out, ec);
         if (!fs::is_directory(out)) fail("cannot create the directory " + out);

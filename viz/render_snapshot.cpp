@@ -25,13 +25,10 @@
 
 #include <CLI/CLI.hpp>
 #include <vtkActor.h>
-#include <vtkCallbackCommand.h>
 #include <vtkCamera.h>
 #include <vtkColorTransferFunction.h>
-#include <vtkCommand.h>
 #include <vtkDoubleArray.h>
 #include <vtkErrorCode.h>
-#include <vtkExecutive.h>
 #include <vtkFieldData.h>
 #include <vtkGlyph3DMapper.h>
 #include <vtkNew.h>
@@ -54,6 +51,7 @@
 
 #include "../examples/command_line.hpp"
 #include "../examples/installed.hpp"
+#include "../examples/output_paths.hpp"
 #include "offscreen.hpp"
 #include "slice.hpp"
 #include "snapshot_view.hpp"
@@ -93,6 +91,26 @@ fs::path resolve(const fs::path& input, int step) {
     return files[static_cast<std::size_t>(index)].file;
 }
 
+/// Refuses a picture (`png`, unless empty) or a movie (`movie` and its folder of frames, unless
+/// empty) that would replace a file this run reads: the input and the frames a .pvd lists, the
+/// walls, the contacts, the series of --range-from and its frames.
+void refuse_outputs_over_inputs(const fs::path& input, const fs::path& walls, const fs::path& contacts, const fs::path& range_from,
+                                const fs::path& png, const fs::path& movie) {
+    std::vector<micromacro::cli::Input> inputs = {{"the input", input}, {"--walls", walls}, {"--contacts", contacts},
+                                                  {"--range-from", range_from}};
+    for (const auto& [given_as, series] : {std::pair<std::string, fs::path>{"a frame of the input", input}, {"a frame of --range-from", range_from}})
+        if (series.extension() == ".pvd" && fs::is_regular_file(series))
+            for (const Entry& frame : collection(series)) inputs.push_back({given_as, frame.file});
+    micromacro::cli::refuse_writing_over_inputs(png, "-o", inputs);
+    if (movie.empty()) return;
+    micromacro::cli::refuse_writing_over_inputs(movie, "--movie", inputs);
+    const fs::path frames = movie.parent_path() / (movie.stem().string() + "_frames");
+    for (const auto& in : inputs)
+        if (!in.path.empty() && micromacro::cli::same_file(in.path.parent_path(), frames))
+            fail("--movie " + movie.string() + " would write its frames into " + frames.string() + ", which holds " + in.given_as +
+                 " " + in.path.string() + "; give another --movie");
+}
+
 /// A .vtp file, or a .pvtp summary with its pieces (a run over MPI ranks) as one data set;
 /// `need_points`: refuse one without points (a particles file must have some).
 vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
@@ -104,16 +122,12 @@ vtkSmartPointer<vtkPolyData> read(const fs::path& p, bool need_points = true) {
         reader = vtkSmartPointer<vtkXMLPolyDataReader>::New();
     // A damaged or truncated file makes the reader raise error events and return what it read
     // so far; any error refuses the file instead of drawing part of it.
-    vtkNew<vtkCallbackCommand> on_error;
-    bool damaged = false;
-    on_error->SetClientData(&damaged);
-    on_error->SetCallback([](vtkObject*, unsigned long, void* flag, void*) { *static_cast<bool*>(flag) = true; });
-    reader->AddObserver(vtkCommand::ErrorEvent, on_error);
-    reader->GetExecutive()->AddObserver(vtkCommand::ErrorEvent, on_error);
+    const micromacro::io::VtkMessages vtk_said(reader);
     reader->SetFileName(p.string().c_str());
     reader->Update();
-    if (damaged || reader->GetErrorCode() != vtkErrorCode::NoError)
-        fail(p.string() + " is damaged or truncated (VTK could not read it whole)");
+    if (vtk_said.any_error() || reader->GetErrorCode() != vtkErrorCode::NoError)
+        fail(p.string() + " is damaged or truncated (VTK could not read it whole" +
+             (vtk_said.text().empty() ? "" : ": " + vtk_said.text()) + ")");
     vtkSmartPointer<vtkPolyData> data = vtkPolyData::SafeDownCast(reader->GetOutputDataObject(0));
     if (!data || (need_points && data->GetNumberOfPoints() == 0)) fail(p.string() + " holds no points (not a particles .vtp?)");
     return data;
@@ -192,6 +206,7 @@ int main(int argc, char** argv) {
         const auto out_dir = fs::path(output).has_parent_path() ? fs::path(output).parent_path() : fs::path(".");
         if (!fs::is_directory(out_dir)) fail("cannot write " + output + ": the directory " + out_dir.string() + " does not exist");
 
+        refuse_outputs_over_inputs(input, walls, contacts, range_from, movie.empty() ? output : "", movie);
         if (!movie.empty()) {
             if (fs::path(input).extension() != ".pvd") fail("--movie needs a .pvd series as input, not " + input);
             if (fs::exists(movie)) fail("--movie " + movie + " exists; remove it or give another name");

@@ -64,4 +64,29 @@ inline ProgramResult run_program(const std::string& program, const std::string& 
     return {status, slurp(out), slurp(err)};
 }
 
+/// Whether this machine lets a test mount a small file system of its own (a tmpfs in a private
+/// mount namespace, `unshare -rm`, which needs no root where user namespaces are allowed, as on
+/// Debian 12), for runs on a full disk.
+inline bool can_fill_a_disk() {
+    static const bool can = std::system("unshare -rm sh -c 'mount -t tmpfs -o size=16k tmpfs /mnt' > /dev/null 2>&1") == 0;
+    return can;
+}
+
+/// Runs `program args` with `folder` (created, emptied) on a file system of `kilobytes` of its
+/// own, so that the program meets a full disk there; the folder is empty again afterwards (the
+/// file system goes with the namespace), except for what `keep` (a shell command run inside, e.g.
+/// "ls -R folder > list") saves elsewhere. `launcher` goes before it all (xvfb-run, whose X server
+/// then runs outside the namespace).
+inline ProgramResult run_on_a_small_disk(const std::string& program, const std::string& args, const std::filesystem::path& folder,
+                                         int kilobytes, const std::filesystem::path& work, const std::string& keep = "true",
+                                         const std::string& launcher = "") {
+    std::filesystem::remove_all(folder);
+    std::filesystem::create_directories(folder);
+    const std::string inside = "mount -t tmpfs -o size=" + std::to_string(kilobytes) + "k tmpfs " + folder.string() + " && " + program +
+                               " " + args + "; status=$?; " + keep + "; exit $status";
+    std::string quoted;
+    for (char ch : inside) quoted += ch == '\'' ? std::string("'\\''") : std::string(1, ch);
+    return run_program(launcher + (launcher.empty() ? "" : " ") + "unshare -rm sh -c '" + quoted + "'", "", work);
+}
+
 }  // namespace mmtest

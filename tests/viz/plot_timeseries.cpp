@@ -96,6 +96,22 @@ BOOST_AUTO_TEST_CASE(no_display_is_a_clear_error) {
     BOOST_TEST(r.err.find("run under xvfb-run") != std::string::npos, r.err);
 }
 
+// A plot is never written over its input: a series kept as plots/stress.png (a name the plots
+// take) is refused as --out's, and left as it was.
+BOOST_AUTO_TEST_CASE(the_input_is_never_written_over) {
+    const fs::path plots = dir / "over" / "plots";
+    fs::remove_all(dir / "over");
+    fs::create_directories(plots);
+    write_series(plots / "stress.png");
+    const std::string before = mmtest::slurp(plots / "stress.png");
+    const auto r = mmtest::run_program(std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + PLOT_TIMESERIES,
+                                       (plots / "stress.png").string() + " --out " + plots.string(), dir);
+    BOOST_TEST(r.exit_code() == 1);
+    BOOST_TEST(r.err.find("is the input " + (plots / "stress.png").string()) != std::string::npos, r.err);
+    BOOST_TEST((mmtest::slurp(plots / "stress.png") == before));
+    BOOST_TEST(!fs::exists(plots / "fabric.png"));  // refused before any plot
+}
+
 // Damaged series are refused with the file, line and column, before any picture is written: a
 // missing column (no partial set of plots), a field that is not a number, a row of another
 // length (two runs' rows glued together), an infinite value.

@@ -139,6 +139,49 @@ BOOST_AUTO_TEST_CASE(damaged_files_are_refused) {
     }
 }
 
+// A picture is never written over one of its inputs (the particles, a frame a .pvd lists, the walls,
+// the contacts, the --range-from series); a size beyond the limit names the limit; on a full disk
+// the program's own message comes first and no partial picture stays.
+BOOST_AUTO_TEST_CASE(inputs_are_never_written_over) {
+    const fs::path dir = fs::temp_directory_path() / "micromacro_render_test";
+    BOOST_TEST_REQUIRE(fs::exists(dir / "p.vtp"));  // from colours_at_the_centres
+    const std::string particles = mmtest::slurp(dir / "p.vtp");
+    fs::copy_file(dir / "p.vtp", dir / "w.vtp", fs::copy_options::overwrite_existing);
+    std::ofstream(dir / "s.pvd") << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n"
+                                    "    <DataSet timestep=\"0\" group=\"\" part=\"0\" file=\"p.vtp\"/>\n  </Collection>\n</VTKFile>\n";
+    const std::string xvfb = std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\" " + RENDER_SNAPSHOT;
+    struct Case {
+        std::string args, expect;
+    };
+    const std::string p = (dir / "p.vtp").string();
+    const Case cases[] = {
+        {p + " -o " + p, "-o " + p + " is the input " + p},
+        {p + " --walls " + (dir / "w.vtp").string() + " -o " + (dir / "w.vtp").string(), " is --walls "},
+        {(dir / "s.pvd").string() + " -o " + p, " is a frame of the input "},
+        {p + " --range-from " + (dir / "s.pvd").string() + " -o " + (dir / "s.pvd").string(), " is --range-from "},
+        {(dir / "s.pvd").string() + " --movie " + p, "--movie " + p + " is "},
+        {p + " --size 100000x100000 -o " + (dir / "big.png").string(), "--size 100000x100000 is outside 16..8192 pixels"},
+    };
+    for (const auto& c : cases) {
+        const auto r = mmtest::run_program(xvfb, c.args, dir);
+        BOOST_TEST(r.exit_code() == 1, c.args);
+        BOOST_TEST(r.err.find(c.expect) != std::string::npos, c.args << ": " << r.err);
+        BOOST_TEST((mmtest::slurp(dir / "p.vtp") == particles), c.args << ": the input changed");
+        BOOST_TEST((mmtest::slurp(dir / "w.vtp") == particles), c.args << ": the walls changed");
+    }
+    if (!mmtest::can_fill_a_disk()) {
+        BOOST_WARN_MESSAGE(false, "this machine does not let a test mount a small disk (unshare -rm): the full disk is not tested here");
+        return;
+    }
+    const fs::path disk = dir / "small_disk";
+    const auto full = mmtest::run_on_a_small_disk(RENDER_SNAPSHOT, p + " -o " + (disk / "q.png").string(), disk, 8, dir / "work",
+                                                  "ls -A " + disk.string() + " > " + (dir / "left.txt").string(),
+                                                  std::string(XVFB_RUN) + " -a -s \"-screen 0 1280x1024x24\"");
+    BOOST_TEST(full.exit_code() == 1, full.err);
+    BOOST_TEST(full.err.rfind("render_snapshot: cannot write " + (disk / "q.png").string(), 0) == 0u, full.err);
+    BOOST_TEST(mmtest::slurp(dir / "left.txt").empty(), mmtest::slurp(dir / "left.txt"));
+}
+
 namespace {
 // Frames of disks in a row at x = 0, 3, 6, ... mm with the given energies; the last disk is set
 // apart to fix the bounds alike in every frame.

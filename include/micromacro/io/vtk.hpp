@@ -41,6 +41,7 @@
 #include "micromacro/averaging/tensor.hpp"
 #include "micromacro/core/error.hpp"
 #include "micromacro/engine/snapshot.hpp"
+#include "micromacro/io/vtk_messages.hpp"
 #include "micromacro/io/whole_file.hpp"
 #include "micromacro/particles/particles.hpp"
 
@@ -77,15 +78,17 @@ inline void write_polydata(vtkPolyData* data, const std::filesystem::path& path)
     writer->SetDataModeToAppended();
     writer->SetCompressorTypeToZLib();
     writer->EncodeAppendedDataOff();  // raw binary
+    const VtkMessages vtk_said(writer);  // quoted in the message below, not printed by VTK first
     // Write() reports some failures only through the error code (a full disk leaves a truncated
     // file and returns 1): both are checked, and a failed file is removed, never renamed.
-    if (writer->Write() != 1 || writer->GetErrorCode() != vtkErrorCode::NoError) {
+    if (writer->Write() != 1 || writer->GetErrorCode() != vtkErrorCode::NoError || vtk_said.any_error()) {
         const unsigned long code = writer->GetErrorCode();
         std::error_code ignored;
         std::filesystem::remove(partial, ignored);
         micromacro::detail::throw_input_error("cannot write ", path.string(), ": VTK's writer failed (",
                                               code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code)
                                                                             : "no error code",
+                                              vtk_said.text().empty() ? "" : ": " + vtk_said.text(),
                                               "; is the disk full or the directory not writable?)");
     }
     std::filesystem::rename(partial, path);
@@ -239,7 +242,7 @@ inline void write_piece_summary(vtkPolyData* piece, const std::vector<std::strin
                 << a->GetNumberOfComponents() << "\"/>\n";
         }
     };
-    detail::write_whole_file(path, std::ios::out, [&](std::ofstream& out) {
+    write_whole_file(path, std::ios::out, [&](std::ofstream& out) {
         out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"PPolyData\" version=\"0.1\" byte_order=\"LittleEndian\" header_type=\"UInt64\">\n"
             << "  <PPolyData GhostLevel=\"0\">\n    <PPointData";
         auto* pd = piece->GetPointData();
@@ -340,7 +343,7 @@ public:
     void add(double time, const std::filesystem::path& file) { entries_.push_back({time, file.filename().string()}); }
     void write() const {
         detail::check_directory(path_);
-        detail::write_whole_file(path_, std::ios::out, [&](std::ofstream& out) {
+        write_whole_file(path_, std::ios::out, [&](std::ofstream& out) {
             out.precision(17);
             out << "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n  <Collection>\n";
             for (const auto& e : entries_)
