@@ -281,10 +281,23 @@ inline void validate(const Config& c) {
                               " s to close the box, longer than the preparation's ", allowed, " s; use --wall-mass <= ",
                               c.wall_mass * (allowed / crossing) * (allowed / crossing) / 4, " (the default is 1e-4)");
     }
-    if (const double steps = (0.5 * c.period + c.relax) / dt; steps > 1e9)
-        throw_input_error("--dt-fraction ", c.dt_fraction, " gives dt = ", dt, " s and ", steps, " steps for the loading alone, "
-                          "more than 1e9 (days of computing); use --dt-fraction <= ", c.dt_fraction * 1e9 / steps,
-                          " (the paper's is 50)");
+    if (const double steps = (0.5 * c.period + c.relax) / dt; steps > 1e9) {
+        // A larger dt helps only down to --dt-fraction's minimum of 5; beyond, the loading must be shorter.
+        const double fraction = c.dt_fraction * 1e9 / steps, longest = 1e9 * dt * c.dt_fraction / 5.0;
+        std::ostringstream fix;
+        if (fraction >= 5.0) {
+            fix << "use --dt-fraction <= " << fraction << " (the paper's is 50)";
+        } else {
+            fix << "even the largest step (--dt-fraction 5) allows T/2 + --relax of at most " << longest << " s; use";
+            if (c.relax < longest) fix << " --period <= " << 2.0 * (longest - c.relax);
+            if (c.relax < longest && 0.5 * c.period < longest) fix << " or";
+            if (0.5 * c.period < longest) fix << " --relax <= " << longest - 0.5 * c.period;
+            if (c.relax >= longest && 0.5 * c.period >= longest) fix << " a shorter --period and --relax";
+        }
+        throw_input_error("--period ", c.period, " s and --relax ", c.relax, " s with dt = ", dt, " s (--dt-fraction ",
+                          c.dt_fraction, ") make ", steps, " steps for the loading alone, more than 1e9 (days of computing); ",
+                          fix.str());
+    }
     mm::require_non_negative(c.wall_damping, "--wall-damping", "give gamma_w of Eq. 18 in kg/s");
     mm::require_non_negative(c.wall_follow_time, "--wall-follow-time", "use 0 for Eq. 18's damper");
     mm::require_non_negative(c.prepare_speed, "--prepare-speed", "give the walls' speed while preparing in m/s (0 = automatic)");
@@ -475,6 +488,7 @@ public:
             for (auto* w : {&lower, &upper}) {
                 w->initial_offset = w->offset;
                 w->speed = 0.0;
+                w->frictionless = !c_.wall_friction;  // as built; a prepared state's walls take this run's
             }
             lower.motion = mm::FixedMotion{};
             if (k == up)
@@ -487,6 +501,9 @@ public:
         sim_.template body_force<mm::AffineDamping>() = c_.damping == "affine" ? mm::AffineDamping(gamma, gamma_r) : mm::AffineDamping();
         sim_.template body_force<mm::LocalDamping>() = mm::LocalDamping(c_.damping == "local" ? c_.local_damping : 0.0);
         sim_.law() = make_law(c_, c_.mu);
+        // The loading's time step is the preparation's, unless a run from a prepared state asks for
+        // another (--dt-fraction), which then acts as run.json records it.
+        if (sim_.time_step() != c_.time_step()) sim_.set_time_step(c_.time_step());
         load_start_ = sim_.time();
     }
 

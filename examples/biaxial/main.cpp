@@ -16,19 +16,22 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
-#include <random>
 #include <sstream>
 #include <string>
 
 #include <CLI/CLI.hpp>
+#include <micromacro/io/checksum.hpp>
+#include <micromacro/io/whole_file.hpp>
 #include <nlohmann/json.hpp>
 
 #include "../command_line.hpp"
 #include "../installed.hpp"
 #include "biaxial.hpp"
+#include "cost.hpp"
 #include "parameters.hpp"
 #include "processes.hpp"
 #include "quality.hpp"
+#include "run_folder.hpp"
 #include "scene.hpp"
 #ifdef MICROMACRO_HAVE_VTK
 #include <micromacro/io/vtk.hpp>
@@ -53,72 +56,10 @@ std::string now_iso() {
     return buf;
 }
 
-/// Writes `text` to `path` atomically: a temporary file in the same directory, then a rename.
-void write_atomically(const fs::path& path, const std::string& text) {
-    const fs::path partial = path.string() + ".partial";
-    {
-        std::ofstream out(partial);
-        if (!(out << text) || !out.flush()) {
-            std::error_code ignored;
-            fs::remove(partial, ignored);
-            micromacro::throw_input_error("cannot write ", partial.string());
-        }
-    }
-    fs::rename(partial, path);
-}
-
 std::string csv_number(double v) {
     char buf[32];
     std::snprintf(buf, sizeof buf, "%.17g", v);
     return buf;
-}
-
-/// What a run writes into its folder. A folder that holds any of these holds a run.
-const char* const run_entries[] = {"run.json",       "timeseries.csv", "timeseries.csv.partial", "checkpoint.state",
-                                   "prepared.state", "vtk",            "plots",                  "snapshots",
-                                   "movie.mp4",      "movie_frames"};
-
-/// Makes `out` ready for a new run: created if missing. A folder that holds an earlier run is
-/// refused, so that no result is overwritten and no two runs mix, unless `overwrite`, which
-/// first removes that run's entries (and nothing else of the folder).
-void claim_output_folder(const fs::path& out, bool overwrite, const std::string& from_prepared) {
-    std::string found;
-    for (const char* entry : run_entries)
-        if (fs::exists(out / entry)) found += (found.empty() ? "" : ", ") + std::string(entry);
-    if (!found.empty()) {
-        if (!overwrite)
-            micromacro::throw_input_error("--out ", out.string(), " holds an earlier run (", found,
-                                                  "); give another --out, --resume ", out.string(),
-                                                  " to continue a killed run, or --overwrite to replace it");
-        std::error_code ec;
-        if (!from_prepared.empty() && fs::weakly_canonical(from_prepared, ec).parent_path() == fs::weakly_canonical(out, ec))
-            micromacro::throw_input_error("--from-prepared ", from_prepared, " lies in --out ", out.string(),
-                                                  ", which --overwrite would clear first; copy it elsewhere or choose another --out");
-        for (const char* entry : run_entries) fs::remove_all(out / entry);
-    }
-    std::error_code ec;
-    fs::create_directories(out, ec);
-    const fs::path probe = out / ".write_test";
-    if (ec || !std::ofstream(probe)) micromacro::throw_input_error("--out ", out.string(), " is not a writable directory");
-    fs::remove(probe, ec);
-}
-
-/// A name for one run, written into its run.json, states and time series, so that files of two
-/// runs are never taken for one: 16 hexadecimal digits from the system's random source.
-std::string new_run_id() {
-    std::random_device source;
-    char id[17];
-    std::snprintf(id, sizeof id, "%08x%08x", source(), source());
-    return id;
-}
-
-/// The run id a time series was started with (its first line), or empty.
-std::string run_id_of_series(const fs::path& csv) {
-    std::ifstream in(csv);
-    std::string line;
-    std::getline(in, line);
-    const std::string tag = "# run ";
-    return line.rfind(tag, 0) == 0 ? line.substr(tag.size()) : "";
 }
 
 /// A program of the project next to this one: installed in the same directory, or in the build
@@ -212,7 +153,8 @@ void plan_from_json(const nlohmann::ordered_json& j, Plan& p) {
 template <int dim, class Law>
 int run(const Config& c, const Plan& plan) {
     const bool writer = biaxial::first_process();  // of the files every process would write alike
-    const bool terminal = writer && !plan.quiet && isatty(STDOUT_FILENO);
+    const bool report = writer && !plan.quiet;      // progress: a line kept up to date on a terminal,
+    const bool terminal = report && isatty(STDOUT_FILENO);  // else a new line every half minute
     const auto wall_start = std::chrono::steady_clock::now();
     const std::string started = now_iso();
     const fs::path& out = plan.out;
@@ -234,12 +176,13 @@ int run(const Config& c, const Plan& plan) {
     double last_print = -1.0;
     std::size_t steps_before = 0;  // steps done in an earlier process (resume)
     auto progress = [&](const char* phase, double fraction, double strain) {
-        if (!terminal || elapsed() - last_print < 0.5) return;
+        if (!report || elapsed() - last_print < (terminal ? 0.5 : 30.0)) return;
         last_print = elapsed();
         const double rate = (scene->steps_done() - steps_before) * n / std::max(elapsed(), 1e-9);
-        const double left = fraction > 0 ? elapsed() * (1.0 - fraction) / fraction : 0.0;
-        std::printf("\r%-9s strain %.4f  t = %.5f s  %.2e particle-steps/s  ~%.0f s left   ", phase, strain, scene->time(),
-                    rate, left);
+        char left[48] = "";  // the preparation's end is not known ahead
+        if (fraction > 0) std::snprintf(left, sizeof left, "  ~%s left", biaxial::duration_text(elapsed() * (1.0 - fraction) / fraction).c_str());
+        std::printf("%s%-9s strain %.4f  t = %.5f s  %.2e particle-steps/s%s%s", terminal ? "\r" : "", phase, strain, scene->time(),
+                    rate, left, terminal ? "   " : "\n");
         std::fflush(stdout);
     };
     // VTK frames (where VTK was found at build time): particles, contacts and walls every
@@ -283,6 +226,8 @@ int run(const Config& c, const Plan& plan) {
         j["bookkeeping"] = exp.bookkeeping();
         j["rows"] = rows;
         j["csv_bytes"] = csv_bytes;
+        // The time series as the checkpoint saw it, which a resumed run continues only if unchanged.
+        j["csv_checksum"] = csv_bytes ? micromacro::io::checksum_of_file(out / "timeseries.csv.partial", csv_bytes) : 0;
         j["vtk_times"] = vtk_times;
         return j.dump();
     };
@@ -301,10 +246,18 @@ int run(const Config& c, const Plan& plan) {
         biaxial::on_first([&] {
             if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
                 micromacro::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
-            if (const std::string series = run_id_of_series(partial); series != plan.run_id)
+            if (const std::string series = biaxial::run_id_of_series(partial); series != plan.run_id)
                 micromacro::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
                                               plan.run_id, "'; the folder mixes two runs and cannot resume");
-            fs::resize_file(partial, saved.at("csv_bytes").get<std::uintmax_t>());  // drop rows written after the checkpoint
+            const auto csv_bytes = saved.at("csv_bytes").get<std::uintmax_t>();
+            if (!saved.contains("csv_checksum"))
+                micromacro::throw_input_error(out.string(), "/checkpoint.state has no checksum of the time series (an older ",
+                                              "biaxial wrote it); cannot resume");
+            if (micromacro::io::checksum_of_file(partial, csv_bytes) != saved.at("csv_checksum").get<std::uint64_t>())
+                micromacro::throw_input_error(partial.string(), " is not what the checkpoint saved: its first ", csv_bytes,
+                                              " bytes were changed after the checkpoint; the run cannot resume from it (",
+                                              "start it again, or restore the file)");
+            fs::resize_file(partial, csv_bytes);  // drop rows written after the checkpoint
             csv.open(partial, std::ios::app);
         });
         start_scene(scene);
@@ -438,7 +391,7 @@ int run(const Config& c, const Plan& plan) {
                    {"particle_steps_per_second", pps},
                    {"threads", plan.threads},
                    {"ranks", biaxial::process_count()}};
-    write_atomically(out / "run.json", j.dump(2) + "\n");
+    micromacro::io::write_whole_file(out / "run.json", j.dump(2) + "\n");
     // The run is complete: its checkpoint would only let a later run in this folder resume into it.
     fs::remove(out / "checkpoint.state");
     if (terminal) std::printf("\n");
@@ -467,6 +420,14 @@ struct QuietOthers {
     }
 };
 
+/// What the run will cost (memory, the loading's time, the VTK frames' space), said before it
+/// starts unless --quiet.
+void tell_cost(const Config& c, const Plan& plan) {
+    if (plan.quiet || !biaxial::first_process()) return;
+    std::printf("%s\n", biaxial::describe_cost(c, biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads), plan.threads).c_str());
+    std::fflush(stdout);
+}
+
 /// The run in the configuration's dimension and with its contact law.
 int run(const Config& c, const Plan& plan) {
     if (c.hertz()) return c.dim == 2 ? run<2, micromacro::HertzMindlin>(c, plan) : run<3, micromacro::HertzMindlin>(c, plan);
@@ -483,11 +444,15 @@ int run_scene(const Config& c, const Plan& plan, QuietOthers& others) {
     try {
         return run(c, plan);
     } catch (const micromacro::InputError& e) {
-        if (biaxial::first_process()) std::fprintf(stderr, "biaxial: %s\n", e.what());
+        if (biaxial::first_process()) {
+            std::fprintf(stderr, "biaxial: %s\n", e.what());
+            biaxial::discard_unresumable_series(plan.out);
+        }
         return 1;
     } catch (const std::exception& e) {
         if (ranks == 1) {
             std::fprintf(stderr, "biaxial: %s\n", e.what());
+            biaxial::discard_unresumable_series(plan.out);
             return 1;
         }
         std::fprintf(stderr, "biaxial (rank %d of %d): %s\n", biaxial::process_rank(), ranks, e.what());
@@ -537,6 +502,7 @@ int main(int argc, char** argv) {
     app.add_flag("--quiet", quiet, "no progress line, only the final summary");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
+    biaxial::FolderLock folder_lock;  // the output folder's, held until the program ends
     try {
         if (out.empty() && resume.empty()) micromacro::throw_input_error("give --out DIR (or --resume DIR)");
         plan.quiet = quiet;
@@ -558,6 +524,7 @@ int main(int argc, char** argv) {
                                                           o->get_name());
             plan.out = resume;
             plan.resume = true;
+            biaxial::on_first([&] { folder_lock.take(plan.out, "--resume"); });
             const fs::path checkpoint = plan.out / "checkpoint.state";
             if (!fs::exists(checkpoint))
                 micromacro::throw_input_error(checkpoint.string(), " does not exist; was the run started with "
@@ -568,6 +535,7 @@ int main(int argc, char** argv) {
                 micromacro::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
             c = config_from_json(saved, c);
             plan_from_json(saved.at("plan"), plan);
+            tell_cost(c, plan);
             return run_scene(c, plan, others);
         }
         biaxial::apply_preset(c, preset);
@@ -595,9 +563,13 @@ int main(int argc, char** argv) {
         biaxial::validate(c);
         micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
         micromacro::check_thread_count(plan.threads);  // before the output folder is made
-        biaxial::on_first([&] { claim_output_folder(out, overwrite, plan.from_prepared); });
+        biaxial::on_first([&] {
+            biaxial::refuse_unaffordable(c, biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads), plan.vtk_every_rows, out);
+        });
+        biaxial::on_first([&] { biaxial::claim_output_folder(out, overwrite, plan.from_prepared, folder_lock); });
         plan.out = out;
-        plan.run_id = biaxial::as_on_first(biaxial::first_process() ? new_run_id() : "");
+        plan.run_id = biaxial::as_on_first(biaxial::first_process() ? biaxial::new_run_id() : "");
+        tell_cost(c, plan);
         return run_scene(c, plan, others);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "biaxial: %s\n", e.what());

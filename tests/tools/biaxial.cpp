@@ -343,6 +343,9 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         {"--wall-mass 1e300", "kg is too heavy: pushed by p A alone it needs"},
         {"--kt-ratio 1e10", "--kt-ratio 1e+10 makes the tangential spring too stiff"},
         {"--dt-fraction 1e300", "steps for the loading alone, more than 1e9"},
+        // Where no --dt-fraction within its minimum of 5 helps, the fix is a shorter loading.
+        {"--period 1e6", "allows T/2 + --relax of at most"},
+        {"--relax 1e9", "s; use --relax <= "},
         // The contact law and the options that belong to the other one.
         {"--law hertz", "--law 'hertz' is unknown"},
         {"--law hertz-mindlin --kt-ratio 0.3", "--kt-ratio does not apply to --law hertz-mindlin"},
@@ -369,6 +372,10 @@ BOOST_AUTO_TEST_CASE(bad_options_are_refused_before_work) {
         const auto few = run("--particles 3 --quiet --out " + (work / "bad").string());
         BOOST_TEST(few.err.find("no packing is left between the walls; use --particles >= 14") != std::string::npos, few.err);
         BOOST_TEST(few.err.find("--final-strain <=") == std::string::npos, few.err);
+    }
+    for (const std::string args : {"--period 1e6", "--relax 1e9"}) {  // a --dt-fraction below its minimum is not offered
+        const auto r = run(args + " --quiet --out " + (work / "bad").string());
+        BOOST_TEST(r.err.find("--dt-fraction <=") == std::string::npos, r.err);
     }
     if (!with_vtk) {  // frames asked of a build without VTK: refused, not silently missing
         const auto frames = run("--quiet --vtk-every 5 --out " + (work / "no_vtk").string());
