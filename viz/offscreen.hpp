@@ -2,6 +2,9 @@
 // What both viz programs need around VTK's off-screen rendering: a display check with the
 // xvfb-run recipe (VTK from Debian aborts without X), the --size option, and writing the window
 // to a PNG atomically.
+#include <unistd.h>
+
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <regex>
@@ -41,6 +44,47 @@ inline std::pair<int, int> parse_size(const std::string& size) {
     return {width, height};
 }
 
+/// Standard error sent to a temporary file while the object lives (the descriptor itself, so that
+/// a C library's own prints are caught too): libpng prints "Write Error" before VTK reports a
+/// failed write, and the program's message must come first. `release()` gives back standard
+/// error and returns what was written to it.
+class CapturedStandardError {
+public:
+    CapturedStandardError() {
+        std::fflush(stderr);
+        file_ = std::tmpfile();
+        saved_ = ::dup(STDERR_FILENO);
+        if (!file_ || saved_ < 0 || ::dup2(::fileno(file_), STDERR_FILENO) < 0) restore();
+    }
+    CapturedStandardError(const CapturedStandardError&) = delete;
+    CapturedStandardError& operator=(const CapturedStandardError&) = delete;
+    ~CapturedStandardError() {
+        restore();
+        if (file_) std::fclose(file_);
+    }
+    std::string release() {
+        restore();
+        std::string text;
+        if (!file_) return text;
+        std::rewind(file_);
+        for (int c; (c = std::fgetc(file_)) != EOF;) text += static_cast<char>(c);
+        while (!text.empty() && text.back() == '\n') text.pop_back();
+        for (auto at = text.find('\n'); at != std::string::npos; at = text.find('\n', at)) text.replace(at, 1, "; ");
+        return text;
+    }
+
+private:
+    void restore() {
+        if (saved_ < 0) return;
+        std::fflush(stderr);
+        ::dup2(saved_, STDERR_FILENO);
+        ::close(saved_);
+        saved_ = -1;
+    }
+    std::FILE* file_ = nullptr;
+    int saved_ = -1;
+};
+
 /// Renders the window and writes it to `path` (a temporary name, then a rename).
 inline void write_png(vtkRenderWindow* window, const std::filesystem::path& path) {
     const auto dir = path.has_parent_path() ? path.parent_path() : std::filesystem::path(".");
@@ -55,7 +99,9 @@ inline void write_png(vtkRenderWindow* window, const std::filesystem::path& path
     const micromacro::io::VtkMessages vtk_said(png);  // quoted below, not printed by VTK first
     png->SetFileName(partial.string().c_str());
     png->SetInputConnection(grab->GetOutputPort());
+    CapturedStandardError libpng_said;
     png->Write();
+    const std::string libpng = libpng_said.release();
     // A full disk leaves a truncated file and only an error code: checked, and the file removed.
     if (png->GetErrorCode() != vtkErrorCode::NoError || vtk_said.any_error() || !std::filesystem::is_regular_file(partial)) {
         std::error_code ignored;
@@ -63,8 +109,10 @@ inline void write_png(vtkRenderWindow* window, const std::filesystem::path& path
         const unsigned long code = png->GetErrorCode();
         fail("cannot write " + path.string() + " (" +
              (code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code) : std::string("no error code")) +
-             (vtk_said.text().empty() ? "" : ": " + vtk_said.text()) + "; is the disk full or the directory not writable?)");
+             (vtk_said.text().empty() ? "" : ": " + vtk_said.text()) + (libpng.empty() ? "" : "; " + libpng) +
+             "; is the disk full or the directory not writable?)");
     }
+    if (!libpng.empty()) std::fprintf(stderr, "%s\n", libpng.c_str());  // a warning of a write that succeeded
     std::error_code renamed;
     std::filesystem::rename(partial, path, renamed);
     if (renamed) fail("cannot rename " + partial.string() + " to " + path.string() + ": " + renamed.message());

@@ -176,7 +176,7 @@ int main(int argc, char** argv) {
                           {{"volumetric strain", get("volumetric_strain")}}});
         if (eps.size() < 2) fail(input + " has " + std::to_string(eps.size()) + " rows; a plot needs at least 2");
         for (const auto& c : charts)
-            for (const fs::path file : {fs::path(out) / c.file, fs::path(out) / (c.file + ".json")})
+            for (const fs::path& file : {fs::path(out) / c.file, fs::path(out) / (c.file + ".json")})
                 micromacro::cli::refuse_writing_over_inputs(file, "--out", {{"the input", input}});
         std::error_code ec;
         fs::create_directories(out, ec);

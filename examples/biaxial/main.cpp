@@ -421,10 +421,12 @@ struct QuietOthers {
 };
 
 /// What the run will cost (memory, the loading's time, the VTK frames' space), said before it
-/// starts unless --quiet.
+/// starts; with --quiet only for a large run (a gigabyte of memory or frames, an hour of loading).
 void tell_cost(const Config& c, const Plan& plan) {
-    if (plan.quiet || !biaxial::first_process()) return;
-    std::printf("%s\n", biaxial::describe_cost(c, biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads), plan.threads).c_str());
+    if (!biaxial::first_process()) return;
+    const auto cost = biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads);
+    if (plan.quiet && !biaxial::is_large(cost)) return;
+    std::printf("%s\n", biaxial::describe_cost(c, cost, plan.threads).c_str());
     std::fflush(stdout);
 }
 

@@ -66,7 +66,9 @@ BOOST_AUTO_TEST_CASE(a_folder_in_use_is_refused) {
 BOOST_AUTO_TEST_CASE(two_runs_into_one_folder_at_once) {
     const auto dir = work / "at_once";
     const std::string first = std::string(BIAXIAL) + small_run + " --quiet --out " + dir.string();
-    const std::string second = std::string(BIAXIAL) + small_run + " --seed 2 --quiet --out " + dir.string();
+    std::string other_seed = small_run;
+    other_seed.replace(other_seed.find("--seed 7"), 8, "--seed 2");
+    const std::string second = std::string(BIAXIAL) + other_seed + " --quiet --out " + dir.string();
     const auto both = mmtest::run_program(
         "sh -c '" + first + " > " + (work / "a.txt").string() + " 2>&1 & a=$!; " + second + " > " + (work / "b.txt").string() +
             " 2>&1; b=$?; wait $a; echo $? $b'",
@@ -141,6 +143,13 @@ BOOST_AUTO_TEST_CASE(the_cost_is_told_and_the_unaffordable_refused) {
         BOOST_TEST(big.err.find("of memory, more than this machine's") != std::string::npos, big.err);
         BOOST_TEST(big.err.find("use --particles <= ") != std::string::npos, big.err);
         BOOST_TEST(!fs::exists(work / "big"));
+    }
+    if (with_vtk) {  // 1e5 frames: said even with --quiet (the run is stopped after its first row)
+        const auto many = run(" --preset quick --particles 80 --seed 7 --no-pictures --period 2 --output-interval 1e-5 --vtk-every 1 "
+                              "--quiet --stop-after-rows 1 --out " + (work / "many").string());
+        BOOST_TEST(many.exit_code() == 3, many.err);
+        BOOST_TEST(many.out.find(" VTK frames, about 1.") != std::string::npos, many.out);  // 1e5 frames of 80 particles
+        BOOST_TEST(first_line(many.out).find(" GB") != std::string::npos, many.out);
     }
     if (with_vtk && mmtest::can_fill_a_disk()) {  // more frames than the disk holds: refused, not started
         const auto disk = work / "frames_disk";

@@ -91,6 +91,8 @@ BOOST_AUTO_TEST_CASE(a_number_outside_its_rule_is_refused_by_name_value_and_rule
         {"random_packing", {"--pressure nan --out " + out, "--pressure: nan is not a finite number from 1e-06 to 0.01"}},
         {"plot_timeseries", {"timeseries.csv --k nan --out " + out, "--k: nan is not a finite number above 0"}},
         {"plot_timeseries", {"timeseries.csv --kt-ratio 0 --out " + out, "--kt-ratio: 0 is not a finite number above 0"}},
+        // A count another option would replace silently is refused with the reason.
+        {"speed_accuracy", {"--tiny --particles 0 --out-dir " + out, "--tiny runs 40 particles and would ignore --particles 0"}},
     };
     std::size_t checked = 0;
     for (const auto& [name, path] : programs_built) {
