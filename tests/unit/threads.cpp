@@ -21,6 +21,9 @@ auto shaken_packing(int threads, std::size_t particles = 4000, std::size_t steps
 }  // namespace
 
 #ifdef _OPENMP
+// Labelled long (1000 steps of 4000 particles, six runs): the paths it takes, a frictional scene on
+// two threads with spills and its bits run again, are the shorter cases' below too.
+BOOST_TEST_DECORATOR(*boost::unit_test::label("long"))
 BOOST_AUTO_TEST_CASE_TEMPLATE(fixed_thread_count_same_bits_other_count_round_off, D, Dims) {
     constexpr int dim = D::value;
     const auto one = shaken_packing<dim>(1);
