@@ -5,6 +5,7 @@
 // from measured parts (examples/biaxial/README.md, "What a run costs"), not limits.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstddef>
 #include <cstdio>
