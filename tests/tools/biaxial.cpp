@@ -19,6 +19,7 @@
 #include "biaxial/parameters.hpp"
 #include "biaxial/quality.hpp"
 #include "biaxial/timeseries.hpp"
+#include "support/biaxial_runs.hpp"
 #include "support/mutate.hpp"
 #include "support/programs.hpp"
 
@@ -33,27 +34,10 @@ namespace fs = std::filesystem;
 namespace {
 const mmtest::WorkFolder work_folder("micromacro_biaxial_test");  // removed when the test process ends
 const fs::path& work = work_folder.path;
-#ifdef BIAXIAL_WITH_VTK
-constexpr bool with_vtk = true;  // the program writes VTK frames
-#else
-constexpr bool with_vtk = false;
-#endif
-
-// Without the pictures, which the program would otherwise make through Xvfb at the end of every
-// run (the test `pictures_without_a_display` makes them once).
-mmtest::ProgramResult run(const std::string& args) {
-    return mmtest::run_program(BIAXIAL, args.find("--no-pictures") == std::string::npos ? args + " --no-pictures" : args, work);
-}
+constexpr bool with_vtk = mmtest::biaxial_with_vtk;
+mmtest::ProgramResult run(const std::string& args) { return mmtest::run_biaxial(args, work); }
+using mmtest::rows_of;
 using mmtest::slurp;
-
-// A time series without its first line, "# run <id>", which names the run and so differs
-// between any two runs.
-std::string rows_of(const fs::path& csv) {
-    const std::string text = slurp(csv);
-    if (text.rfind("# run ", 0) != 0) return "no run id line in " + csv.string();
-    return text.substr(text.find('\n') + 1);
-}
-
 
 std::map<std::string, std::vector<double>> read_series(const fs::path& p) { return biaxial::read_timeseries(p.string()); }
 

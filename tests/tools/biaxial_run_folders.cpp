@@ -16,6 +16,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/biaxial_runs.hpp"
 #include "support/programs.hpp"
 
 namespace fs = std::filesystem;
@@ -23,14 +24,10 @@ namespace fs = std::filesystem;
 namespace {
 const mmtest::WorkFolder work_folder("micromacro_biaxial_run_folders");  // removed when the test process ends
 const fs::path& work = work_folder.path;
-#ifdef BIAXIAL_WITH_VTK
-constexpr bool with_vtk = true;
-#else
-constexpr bool with_vtk = false;
-#endif
+constexpr bool with_vtk = mmtest::biaxial_with_vtk;
 const std::string small_run = " --preset quick --particles 80 --period 0.02 --relax 0.002 --seed 7 --no-pictures";
 
-mmtest::ProgramResult run(const std::string& args) { return mmtest::run_program(BIAXIAL, args, work); }
+mmtest::ProgramResult run(const std::string& args) { return mmtest::run_biaxial(args, work); }
 using mmtest::slurp;
 
 nlohmann::json run_json(const fs::path& dir) { return nlohmann::json::parse(slurp(dir / "run.json")); }
@@ -179,9 +176,5 @@ BOOST_AUTO_TEST_CASE(options_with_a_prepared_state_act_as_recorded) {
     BOOST_TEST(run_json(rough)["parameters"]["wall_friction"].get<bool>());
     const auto smooth = work / "smooth";
     BOOST_TEST_REQUIRE(run(prepared + " --out " + smooth.string()).exit_code() == 0);
-    auto rows = [](const fs::path& csv) {
-        const std::string text = slurp(csv);
-        return text.substr(text.find('\n') + 1);  // without the run id
-    };
-    BOOST_TEST((rows(rough / "timeseries.csv") != rows(smooth / "timeseries.csv")));  // friction acted on the walls
+    BOOST_TEST((mmtest::rows_of(rough / "timeseries.csv") != mmtest::rows_of(smooth / "timeseries.csv")));  // friction acted on the walls
 }
