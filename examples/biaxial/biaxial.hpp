@@ -158,6 +158,16 @@ inline void apply_preset(Config& c, const std::string& name) {
 }
 
 /// Refuses a configuration before any work starts.
+/// Steps between two rows of the time series with time step `dt` (the output interval, rounded
+/// to whole steps).
+inline std::size_t steps_per_row(const Config& c, double dt) {
+    return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c.output_interval / dt)));
+}
+/// Rows of the time series of a loading that lasts `loading` seconds, the first at its start.
+inline std::size_t loading_rows(const Config& c, double dt, double loading) {
+    return 1 + static_cast<std::size_t>(std::ceil(loading / (steps_per_row(c, dt) * dt)));
+}
+
 inline void validate(const Config& c) {
     using mm::throw_input_error;
     if (c.dim != 2 && c.dim != 3) throw_input_error("--dim ", c.dim, " is invalid; use 2 or 3");
@@ -530,13 +540,9 @@ public:
     double eps_zz() const { return eps_zz(sim_.walls()); }
     double load_end() const { return load_start_ + 0.5 * c_.period + c_.relax; }
     /// Steps between two rows of the time series (the output interval, rounded to whole steps).
-    std::size_t steps_per_row() const {
-        return std::max<std::size_t>(1, static_cast<std::size_t>(std::llround(c_.output_interval / sim_.time_step())));
-    }
+    std::size_t steps_per_row() const { return biaxial::steps_per_row(c_, sim_.time_step()); }
     /// Rows of the loading's time series, the first at its start.
-    std::size_t loading_rows() const {
-        return 1 + static_cast<std::size_t>(std::ceil((load_end() - load_start_) / (steps_per_row() * sim_.time_step())));
-    }
+    std::size_t loading_rows() const { return biaxial::loading_rows(c_, sim_.time_step(), load_end() - load_start_); }
 
     /// The time-series row of the present state of `scene` (SerialScene: this experiment's engine).
     template <class Scene>

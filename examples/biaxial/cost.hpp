@@ -45,8 +45,7 @@ inline Cost estimate_cost(const Config& c, std::size_t vtk_every_rows, int threa
     const double loading = 0.5 * c.period + c.relax;
     cost.loading_steps = loading / dt;
     cost.loading_seconds = cost.loading_steps * n / (per.steps_per_second * std::max(1, threads));
-    const double steps_per_row = std::max(1.0, std::round(c.output_interval / dt));
-    cost.rows = 1 + static_cast<std::size_t>(std::ceil(loading / (steps_per_row * dt)));
+    cost.rows = loading_rows(c, dt, loading);
     cost.vtk_frames = vtk_every_rows ? (cost.rows - 1) / vtk_every_rows + 1 : 0;
     cost.vtk_bytes = static_cast<double>(cost.vtk_frames) * per.vtk_bytes_per_frame * n;
     return cost;

@@ -422,9 +422,8 @@ struct QuietOthers {
 
 /// What the run will cost (memory, the loading's time, the VTK frames' space), said before it
 /// starts; with --quiet only for a large run (a gigabyte of memory or frames, an hour of loading).
-void tell_cost(const Config& c, const Plan& plan) {
+void tell_cost(const Config& c, const biaxial::Cost& cost, const Plan& plan) {
     if (!biaxial::first_process()) return;
-    const auto cost = biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads);
     if (plan.quiet && !biaxial::is_large(cost)) return;
     std::printf("%s\n", biaxial::describe_cost(c, cost, plan.threads).c_str());
     std::fflush(stdout);
@@ -537,7 +536,7 @@ int main(int argc, char** argv) {
                 micromacro::throw_input_error(checkpoint.string(), " has no run id (an older biaxial wrote it); cannot resume");
             c = config_from_json(saved, c);
             plan_from_json(saved.at("plan"), plan);
-            tell_cost(c, plan);
+            tell_cost(c, biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads), plan);
             return run_scene(c, plan, others);
         }
         biaxial::apply_preset(c, preset);
@@ -565,13 +564,12 @@ int main(int argc, char** argv) {
         biaxial::validate(c);
         micromacro::require_non_negative(plan.checkpoint_every, "--checkpoint-every", "give simulated seconds, 0 for none");
         micromacro::check_thread_count(plan.threads);  // before the output folder is made
-        biaxial::on_first([&] {
-            biaxial::refuse_unaffordable(c, biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads), plan.vtk_every_rows, out);
-        });
+        const auto cost = biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads);
+        biaxial::on_first([&] { biaxial::refuse_unaffordable(c, cost, plan.vtk_every_rows, out); });
         biaxial::on_first([&] { biaxial::claim_output_folder(out, overwrite, plan.from_prepared, folder_lock); });
         plan.out = out;
         plan.run_id = biaxial::as_on_first(biaxial::first_process() ? biaxial::new_run_id() : "");
-        tell_cost(c, plan);
+        tell_cost(c, cost, plan);
         return run_scene(c, plan, others);
     } catch (const std::exception& e) {
         std::fprintf(stderr, "biaxial: %s\n", e.what());

@@ -43,8 +43,8 @@ public:
         const fs::path file = folder / ".lock";
         fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
         if (fd_ < 0)
-            micromacro::throw_input_error(option, " ", folder.string(), " cannot hold its lock file ", file.string(), " (",
-                                          std::strerror(errno), "); give a writable directory");
+            micromacro::throw_input_error(option, " ", folder.string(), " is not a writable directory (its lock file ",
+                                          file.string(), ": ", std::strerror(errno), ")");
         if (::flock(fd_, LOCK_EX | LOCK_NB) != 0) {
             std::string holder;
             std::ifstream(file) >> holder;
@@ -71,9 +71,10 @@ inline std::string run_entries_in(const fs::path& out) {
     return found;
 }
 
-/// Makes `out` ready for a new run: created if missing, locked for this run. A folder that holds an
-/// earlier run is refused, so that no result is overwritten and no two runs mix, unless
-/// `overwrite`, which first removes that run's entries (and nothing else of the folder).
+/// Makes `out` ready for a new run: created if missing, locked for this run (writing the lock file
+/// shows the folder writable). A folder that holds an earlier run is refused, so that no result is
+/// overwritten and no two runs mix, unless `overwrite`, which first removes that run's entries (and
+/// nothing else of the folder).
 inline void claim_output_folder(const fs::path& out, bool overwrite, const std::string& from_prepared, FolderLock& lock) {
     std::error_code ec;
     fs::create_directories(out, ec);
@@ -89,9 +90,6 @@ inline void claim_output_folder(const fs::path& out, bool overwrite, const std::
                                           ", which --overwrite would clear first; copy it elsewhere or choose another --out");
         for (const char* entry : run_entries) fs::remove_all(out / entry);
     }
-    const fs::path probe = out / ".write_test";
-    if (!std::ofstream(probe)) micromacro::throw_input_error("--out ", out.string(), " is not a writable directory");
-    fs::remove(probe, ec);
 }
 
 /// After a failed run: its time series is removed unless a checkpoint can resume it, so that a
