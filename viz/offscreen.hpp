@@ -10,10 +10,8 @@
 #include <regex>
 #include <stdexcept>
 #include <string>
-#include <system_error>
 #include <utility>
 
-#include <vtkErrorCode.h>
 #include <vtkNew.h>
 #include <vtkPNGWriter.h>
 #include <vtkRenderWindow.h>
@@ -96,26 +94,14 @@ inline void write_png(vtkRenderWindow* window, const std::filesystem::path& path
     grab->Update();
     const std::filesystem::path partial = path.string() + ".partial.png";
     vtkNew<vtkPNGWriter> png;
-    const micromacro::io::VtkMessages vtk_said(png);  // quoted below, not printed by VTK first
+    const micromacro::io::VtkMessages vtk_said(png);  // quoted in the message, not printed by VTK first
     png->SetFileName(partial.string().c_str());
     png->SetInputConnection(grab->GetOutputPort());
     CapturedStandardError libpng_said;
-    png->Write();
+    png->Write();  // says nothing: its error code and messages do
     const std::string libpng = libpng_said.release();
-    // A full disk leaves a truncated file and only an error code: checked, and the file removed.
-    if (png->GetErrorCode() != vtkErrorCode::NoError || vtk_said.any_error() || !std::filesystem::is_regular_file(partial)) {
-        std::error_code ignored;
-        std::filesystem::remove(partial, ignored);
-        const unsigned long code = png->GetErrorCode();
-        fail("cannot write " + path.string() + " (" +
-             (code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code) : std::string("no error code")) +
-             (vtk_said.text().empty() ? "" : ": " + vtk_said.text()) + (libpng.empty() ? "" : "; " + libpng) +
-             "; is the disk full or the directory not writable?)");
-    }
+    micromacro::io::finish_vtk_write(png, true, vtk_said, partial, path, libpng);
     if (!libpng.empty()) std::fprintf(stderr, "%s\n", libpng.c_str());  // a warning of a write that succeeded
-    std::error_code renamed;
-    std::filesystem::rename(partial, path, renamed);
-    if (renamed) fail("cannot rename " + partial.string() + " to " + path.string() + ": " + renamed.message());
 }
 
 }  // namespace viz

@@ -27,7 +27,6 @@
 #include <vtkDoubleArray.h>
 #include <vtkIdTypeArray.h>
 #include <vtkIntArray.h>
-#include <vtkErrorCode.h>
 #include <vtkFieldData.h>
 #include <vtkNew.h>
 #include <vtkPointData.h>
@@ -78,20 +77,9 @@ inline void write_polydata(vtkPolyData* data, const std::filesystem::path& path)
     writer->SetDataModeToAppended();
     writer->SetCompressorTypeToZLib();
     writer->EncodeAppendedDataOff();  // raw binary
-    const VtkMessages vtk_said(writer);  // quoted in the message below, not printed by VTK first
-    // Write() reports some failures only through the error code (a full disk leaves a truncated
-    // file and returns 1): both are checked, and a failed file is removed, never renamed.
-    if (writer->Write() != 1 || writer->GetErrorCode() != vtkErrorCode::NoError || vtk_said.any_error()) {
-        const unsigned long code = writer->GetErrorCode();
-        std::error_code ignored;
-        std::filesystem::remove(partial, ignored);
-        micromacro::detail::throw_input_error("cannot write ", path.string(), ": VTK's writer failed (",
-                                              code != vtkErrorCode::NoError ? vtkErrorCode::GetStringFromErrorCode(code)
-                                                                            : "no error code",
-                                              vtk_said.text().empty() ? "" : ": " + vtk_said.text(),
-                                              "; is the disk full or the directory not writable?)");
-    }
-    std::filesystem::rename(partial, path);
+    const VtkMessages vtk_said(writer);  // quoted in the message, not printed by VTK first
+    const bool wrote = writer->Write() == 1;
+    finish_vtk_write(writer, wrote, vtk_said, partial, path);
 }
 }  // namespace detail
 
