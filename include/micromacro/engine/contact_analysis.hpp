@@ -35,7 +35,7 @@ void visit_contacts(const ContactLoopInput<dim, Real, History>& in, const Domain
         const double dist = d.norm(), reach = double(in.r[i]) + double(in.r[j]);
         if (!(dist < reach) || dist == 0.0) continue;
         const V n = d * (1.0 / dist);  // as the force loop computes it
-        f(contact_view(law, i, j, false, pair_kinematics<rotation>(in, i, j, n, dist, dt), d, history(pairs, c)));
+        f(contact_view(law, i, j, false, pair_kinematics<rotation>(in, domain, i, j, d, n, dist, dt), d, history(pairs, c)));
     }
     if (!walls) return;
     for (std::size_t c = 0; c < wall_contacts->size(); ++c) {

@@ -60,8 +60,8 @@ struct PacketBlock {
 /// first pass's spilled each other (0.96x on the lattice of scripts/vs_lammps.sh).
 template <bool track, int dim, class Real>
 [[gnu::noinline]] void packet_forces(const FrictionalLinear& law, double dt, PacketBlock& block, std::size_t count,
-                                     std::size_t b0, const Vec<dim, Real>* v, const Angular<dim, Real>* w,
-                                     TangentialSpring<dim>* history) {
+                                     std::size_t b0, const Domain<dim>& domain, const Vec<dim, Real>* x, const Vec<dim, Real>* v,
+                                     const Angular<dim, Real>* w, TangentialSpring<dim>* history) {
     namespace pk = packets;
     using pk::Lane;
     using pk::Mask;
@@ -82,7 +82,21 @@ template <bool track, int dim, class Real>
         const Lane ri = _mm512_load_pd(rad_i + k0), rj = _mm512_load_pd(rad_j + k0);
         const Lane inv = _mm512_load_pd(inverse + k0);
         pk::Kinematics<dim> c;
-        const Lanes dv = pk::load(v, is) - pk::load(v, js);
+        Lanes dv = pk::load(v, is) - pk::load(v, js);
+        if (domain.moving()) [[unlikely]] {  // j's image moves with the cell: pair_velocity_difference in lanes
+            const Lanes shift = pk::load(x, is) - pk::load(x, js);
+            Lane d[dim], image[dim];
+            d[0] = shift.x - _mm512_load_pd(sx + k0);
+            d[1] = shift.y - _mm512_load_pd(sy + k0);
+            if constexpr (dim == 3) d[2] = shift.z - _mm512_load_pd(sz + k0);
+            const auto& L = domain.velocity_gradient();
+            for (int a = 0; a < dim; ++a) {
+                image[a] = pk::broadcast(L(a, 0)) * d[0];
+                for (int b = 1; b < dim; ++b) image[a] = image[a] + pk::broadcast(L(a, b)) * d[b];
+            }
+            if constexpr (dim == 2) dv = dv - pk::Lanes2{image[0], image[1]};
+            else dv = dv - pk::Lanes3{image[0], image[1], image[2]};
+        }
         // contact_point_velocity (Eq. 25): n x (a_i w_i + a_j w_j)
         if constexpr (dim == 2) {
             c.normal = {_mm512_load_pd(sx + k0) * inv, _mm512_load_pd(sy + k0) * inv};
@@ -141,7 +155,7 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
     Lane period[dim], half[dim];
     for (int a = 0; a < dim; ++a) {
         const double length = domain.hi()[a] - domain.lo()[a];
-        period[a] = pk::broadcast(length);
+        period[a] = pk::broadcast(domain.tilted() ? 0.5 * length : length);  // tilted: every image lane to Domain (see PacketLayout)
         half[a] = pk::broadcast(domain.periodic(a) ? 0.5 * length : std::numeric_limits<double>::infinity());
     }
     const __m256i lane = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
@@ -207,7 +221,7 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             _mm512_store_pd(distance + k, root);
             _mm512_store_pd(inverse + k, one / root);
         }
-        packet_forces<track, dim>(law, dt, block_arrays, count, b0, v, w, history);
+        packet_forces<track, dim>(law, dt, block_arrays, count, b0, domain, x, v, w, history);
         // The sums, in the list's order (engine/pair_force_sums.hpp and respond()'s books): i's
         // sums held while its run of partners lasts (the list takes each i's partners together; j
         // is never i, so no other contact of the run writes i's sums meanwhile).

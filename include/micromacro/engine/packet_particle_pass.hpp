@@ -58,7 +58,9 @@ struct PacketLayout {
                 const double length = domain.hi()[axis] - domain.lo()[axis];
                 lo_at[r][l] = domain.lo()[axis];
                 hi_at[r][l] = domain.hi()[axis];
-                period_at[r][l] = length;
+                // In a tilted box an image moves the lower axes too: every lane past half a period
+                // is then sent to Domain::separation (nearest_image's "a period or more apart").
+                period_at[r][l] = domain.tilted() ? 0.5 * length : length;
                 half_at[r][l] = domain.periodic(axis) ? 0.5 * length : std::numeric_limits<double>::infinity();
                 if (domain.periodic(axis)) periodic[r] = packets::Mask(periodic[r] | (1u << l));
             }
@@ -168,12 +170,15 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
                 for (int r = 0; r < rows; ++r)
                     outside |= (pk::less(position[r], layout.lo[r]) | pk::greater_equal(position[r], layout.hi[r])) &
                                 layout.periodic[r];
-                if (outside) [[unlikely]] {  // Domain::wrap, particle by particle
+                if (outside) [[unlikely]] {  // Domain::wrap, particle by particle (with its velocity in a moving cell)
                     alignas(64) double numbers[8 * dim];
                     for (int r = 0; r < rows; ++r) _mm512_store_pd(numbers + 8 * r, position[r]);
                     for (int l = 0; l < 8; ++l) {
                         Vec<dim> xl = Eigen::Map<const Vec<dim>>(numbers + dim * l);
-                        domain.wrap(xl);
+                        Eigen::Map<Vec<dim>> vl(v + at + dim * std::size_t(l));
+                        Vec<dim> velocity = vl;
+                        domain.wrap(xl, velocity);
+                        vl = velocity;
                         Eigen::Map<Vec<dim>>(numbers + dim * l) = xl;
                     }
                     for (int r = 0; r < rows; ++r) position[r] = _mm512_load_pd(numbers + 8 * r);

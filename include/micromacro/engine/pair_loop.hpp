@@ -39,20 +39,33 @@ struct ContactLoopInput {
     Index first_ghost = std::numeric_limits<Index>::max();
 };
 
-/// v_ij of Eq. 25 for the pair (i, j) with normal n, read from the stored arrays (for the passes
-/// outside the pair loop, which has v_i - v_j at hand already).
-template <bool rotation, int dim, class Real, class History>
-MICROMACRO_INLINE Vec<dim> pair_point_velocity(const ContactLoopInput<dim, Real, History>& in, Index i, Index j, const Vec<dim>& n) {
-    return contact_point_velocity<rotation>(n, Vec<dim>(convert<double>(in.v[i]) - convert<double>(in.v[j])), in.w, i, j, in.r[i],
-                                            in.r[j]);
+/// v_i - v_j of the pair (i, j) at separation d (Domain::separation): in a moving cell, j's
+/// image across the boundary moves at Domain::image_velocity of its shift, x_i - x_j - d, besides
+/// v_j (zero for a pair that crosses no boundary, where the shift is exactly zero).
+template <int dim, class Real, class History>
+MICROMACRO_INLINE Vec<dim> pair_velocity_difference(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain,
+                                                    Index i, Index j, const Vec<dim>& d) {
+    Vec<dim> dv = convert<double>(in.v[i]) - convert<double>(in.v[j]);
+    if (domain.moving()) [[unlikely]]
+        dv -= domain.image_velocity(Vec<dim>(convert<double>(in.x[i]) - convert<double>(in.x[j]) - d));
+    return dv;
 }
 
-/// The kinematics of the pair (i, j) at distance `dist` along n, read from the stored arrays (for
-/// the passes outside the pair loop).
+/// v_ij of Eq. 25 for the pair (i, j) at separation d with normal n, read from the stored arrays
+/// (for the passes outside the pair loop, which has v_i - v_j at hand already).
 template <bool rotation, int dim, class Real, class History>
-MICROMACRO_INLINE ContactKinematics<dim> pair_kinematics(const ContactLoopInput<dim, Real, History>& in, Index i, Index j,
-                                                         const Vec<dim>& n, double dist, double dt) {
-    const Vec<dim> dv = convert<double>(in.v[i]) - convert<double>(in.v[j]);
+MICROMACRO_INLINE Vec<dim> pair_point_velocity(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, Index i,
+                                               Index j, const Vec<dim>& d, const Vec<dim>& n) {
+    return contact_point_velocity<rotation>(n, pair_velocity_difference(in, domain, i, j, d), in.w, i, j, in.r[i], in.r[j]);
+}
+
+/// The kinematics of the pair (i, j) at separation d, distance `dist` along n, read from the
+/// stored arrays (for the passes outside the pair loop).
+template <bool rotation, int dim, class Real, class History>
+MICROMACRO_INLINE ContactKinematics<dim> pair_kinematics(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain,
+                                                         Index i, Index j, const Vec<dim>& d, const Vec<dim>& n, double dist,
+                                                         double dt) {
+    const Vec<dim> dv = pair_velocity_difference(in, domain, i, j, d);
     const Vec<dim> vr = contact_point_velocity<rotation>(n, dv, in.w, i, j, in.r[i], in.r[j]);
     return {{n, double(in.r[i]) + double(in.r[j]) - dist, n.dot(dv), vr}, in.r[i], in.r[j], in.inverse_mass[i], in.inverse_mass[j], dt};
 }
@@ -71,7 +84,7 @@ MICROMACRO_COLD void opened_pair(const ContactLoopInput<dim, Real, History>& in,
     const double dist = d.norm();
     if (!(dist > 0.0)) return;
     const V n = d / dist;
-    const V force = law.opening_force(pair_kinematics<rotation>(in, i, j, n, dist, dt), h);
+    const V force = law.opening_force(pair_kinematics<rotation>(in, domain, i, j, d, n, dist, dt), h);
     Angular<dim> arm{};
     if constexpr (rotation) arm = DimTraits<dim>::cross(n, force);
     add_pair_force<dim, rotation>(i, j, force, arm, double(in.r[i]), double(in.r[j]), f, torque, owned_end,
@@ -161,7 +174,10 @@ void scalar_pair_loop(const ContactLoopInput<dim, Real, History>& in, const Doma
             ContactKinematics<dim> kinematics;
             const V& n = kinematics.normal;
             kinematics.normal = separation[k] * inverse_distance[k];
-            const V dv = convert<double>(v[i]) - convert<double>(v[j]);
+            V dv = convert<double>(v[i]) - convert<double>(v[j]);
+            if constexpr (periodic)
+                if (domain.moving()) [[unlikely]]  // j's image moves with the cell (pair_velocity_difference)
+                    dv -= domain.image_velocity(V(convert<double>(x[i]) - convert<double>(x[j]) - separation[k]));
             kinematics.relative_velocity = contact_point_velocity<rotation>(n, dv, w, i, j, ri, rj);
             kinematics.overlap = reach - distance[k];
             kinematics.normal_velocity = n.dot(dv);

@@ -96,7 +96,7 @@ std::pair<double, double> scalar_kick_drift_pass(const ParticleArrays<dim, Real>
         vi += h_before * acc;
         V xi = convert<double>(x[i]) + dt * vi;
         vi += h_after * acc;
-        if constexpr (periodic) domain.wrap(xi);
+        if constexpr (periodic) domain.wrap(xi, vi);
         // The displacement from the stored value, not reloaded from x[i]: wrap() stores
         // coordinates one by one, and a vector load right after them stalls.
         const SV stored = convert<Real>(xi);

@@ -81,6 +81,9 @@ public:
     Boundary& walls() { return walls_; }
     const Boundary& walls() const { return walls_; }
     const Domain<dim>& domain() const { return domain_; }
+    /// The periodic cell's velocity gradient (Domain::set_velocity_gradient): from the next step
+    /// the cell deforms with it, its images moving with their shifts (an element test's drive).
+    void set_velocity_gradient(const Eigen::Matrix<double, dim, dim>& L) { domain_.set_velocity_gradient(L); }
     const Law& law() const { return law_; }
     /// The contact law may be changed between steps (e.g. friction switched on after a
     /// frictionless preparation); the stability limit is checked again at the next prepare().
@@ -104,8 +107,7 @@ public:
     double skin() const { return skin_; }
     /// Lets prepare() accept dt above the stability limit (a blow-up is reported, not refused).
     void allow_unstable_time_step(bool allow) { allow_unstable_ = allow; }
-    /// Energy tracking costs a few flops per contact; on by default.
-    void set_track_energy(bool on) { track_energy_ = on; }
+    void set_track_energy(bool on) { track_energy_ = on; }  // a few flops per contact; on by default
     bool track_energy() const { return track_energy_; }
     /// Lets prepare() accept positions coarser than 1e-6 of the smallest radius (float storage).
     void allow_coarse_positions(bool allow) { allow_coarse_positions_ = allow, prepared_ = false; }
@@ -149,11 +151,9 @@ public:
     /// Scenes of this many particles or more are sorted by the engine; smaller ones keep the
     /// caller's numbers, which they are usually inspected by (the costs: docs/performance.md).
     static constexpr std::size_t auto_sort_min_particles = 2048;
-    /// On (the default), the engine sorts the particles spatially when it first builds its
-    /// neighbour lists and again at a rebuild that finds the order decayed, as LAMMPS sorts its
-    /// atoms: when the candidate pairs' mean index distance has doubled since the last sort.
+    /// On (the default), the engine sorts the particles spatially at its first neighbour search and
+    /// when the candidate pairs' mean index distance has doubled since (as LAMMPS sorts its atoms).
     /// Indices then change under the caller's feet; a particle's id (Particles::id) does not.
-    /// Off: the particles keep the order they were given (or that sort_spatially left).
     void set_auto_sort(bool on) { auto_sort_ = on; }
     bool auto_sort() const { return auto_sort_; }
     /// How often the particles were sorted, by sort_spatially or on the engine's own.
@@ -162,11 +162,9 @@ public:
     SearchState<dim, Real> search_state() const { return {reference_, wall_reference_, sorted_gap_}; }
     void restore_search_state(SearchState<dim, Real> state);
     /// Particles from index `first` on are ghosts, copies of particles another process computes
-    /// (mpi::DistributedRun): the lists leave out pairs of two ghosts and a ghost's wall contacts
-    /// (their forces are the owners'), the body forces act on the own particles only, and the
-    /// energies and books count half of each pair with a ghost. `counts_walls`: whether the walls'
-    /// own energy and books (kinetic energy, a stress-controlled wall's pressure work and damper)
-    /// are this process's to count. Default: no ghosts, the walls counted.
+    /// (mpi::DistributedRun): the lists leave out pairs of two ghosts and a ghost's wall contacts,
+    /// the body forces act on the own particles only, and the books count half of each pair with a
+    /// ghost. `counts_walls`: whether the walls' own energy and books are this process's to count.
     void set_first_ghost(std::size_t first, bool counts_walls = true) { first_ghost_ = first, counts_walls_ = counts_walls; }
     /// The neighbour search bins positions in `window` along the periodic axes it unwraps
     /// (neighbors/search_window.hpp; mpi::DistributedRun, whose ranks hold slabs of the box).
@@ -213,8 +211,7 @@ public:
     std::size_t steps_done() const { return steps_; }
     /// Whether the forces are those of the present scene (prepare() ran since the last change).
     bool prepared() const { return prepared_ && reference_.size() == particles_.size(); }
-    /// Sets the clock, for a state assembled elsewhere (mpi::DistributedRun::whole_scene).
-    void set_clock(double time, std::size_t steps) { time_ = time, steps_ = steps; }
+    void set_clock(double time, std::size_t steps) { time_ = time, steps_ = steps; }  // mpi::whole_scene's
     std::size_t neighbor_rebuilds() const { return rebuilds_; }
     /// The largest displacement of a particle from where the last rebuild found it, after the last pass.
     double largest_move() const { return last_move_; }
@@ -266,10 +263,10 @@ public:
     template <class F> void visit_wall_histories(F&& f) requires(Law::has_history && has_walls) { wall_contacts_.visit(f); }
     template <class F> void visit_wall_histories(F&& f) const requires(Law::has_history && has_walls) { wall_contacts_.visit(f); }
 
-    /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes),
-    /// a periodic box (diagonal F only), and every tangential spring, which takes up the
-    /// tangential part of its contact's branch change as if the partners had moved there.
-    /// Velocities are kept. A periodic axis left shorter than two interaction ranges is refused.
+    /// Deforms the scene affinely, x -> F x: particle positions, walls (planes map to planes), a
+    /// periodic box (Domain::deformed), and every tangential spring, which takes up the tangential
+    /// part of its contact's branch change as if the partners had moved there. Velocities are
+    /// kept. A periodic axis left shorter than two interaction ranges is refused.
     void deform_affinely(const Eigen::Matrix<double, dim, dim>& F);
 
     /// Visits the complete state (particles, contacts with their springs, walls, box, law, body
@@ -344,6 +341,8 @@ private:
     detail::ParticleArrays<dim, Real> particle_arrays();
 
     void rebuild_neighbors();
+    // The moving cell over a step of dt; returns how far its images can have moved since the last search.
+    double advance_cell(double dt);
 
     [[noreturn]] void report_blow_up() const;
 
@@ -361,6 +360,7 @@ private:
     [[no_unique_address]] std::conditional_t<has_walls, ContactList<History>, NoHistory> wall_contacts_;
     [[no_unique_address]] std::conditional_t<has_walls, std::vector<detail::WallTerm<dim>>, NoHistory> wall_terms_;
     std::vector<SV> reference_;
+    Eigen::Matrix<double, dim, dim> lattice_reference_ = Eigen::Matrix<double, dim, dim>::Zero();  // the cell at the last search
     int threads_ = 1;
     detail::ThreadedPairLoop<dim, Real, rotation> pair_loop_;
     // Forces of the previous evaluation, for integrators that correct with the force change.
@@ -371,7 +371,7 @@ private:
     EnergyBooks books_, step_books_, previous_step_books_;
     std::vector<detail::WallBook> wall_books_;  // the walls as the books saw them at the last evaluation
     double initial_energy_ = 0.0;
-    double dt_ = 0.0, skin_ = 0.0, time_ = 0.0, last_move_ = 0.0;
+    double dt_ = 0.0, skin_ = 0.0, time_ = 0.0, last_move_ = 0.0, interaction_range_ = 0.0;
     double evaluated_dt_ = 0.0;  // the step of the last force evaluation, which advanced the springs
     std::size_t steps_ = 0, rebuilds_ = 0, sorts_ = 0;
     double sorted_gap_ = 0.0;  // SearchState::sorted_gap

@@ -90,6 +90,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if constexpr (requires(AffineField<dim> field) { force.template apply<track>(particles_, step_books_, dt_, field); }) {
         AffineField<dim> field;
         if constexpr (has_walls) field = walls_.affine_field();
+        else field = {domain_.centre(), Vec<dim>::Zero(), domain_.velocity_gradient()};  // the cell's flow (zero at rest)
         apply(field);
     } else {
         apply();

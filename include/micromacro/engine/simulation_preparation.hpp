@@ -90,7 +90,13 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         detail::throw_input_error("too many particles: ", n);
     const auto& r = particles_.radius();
     if (!(skin_ > 0.0)) skin_ = default_skin(r);
-    if (n) domain_.check_interaction_range(interaction_range(r, skin_));
+    interaction_range_ = n ? interaction_range(r, skin_) : 0.0;
+    if (n) domain_.check_interaction_range(interaction_range_);
+    if (has_walls && domain_.moving())
+        detail::throw_input_error("the periodic cell has a velocity gradient and the scene has walls; a moving cell drives a "
+                                  "scene without walls (an element test): drive the walls by their motions instead");
+    if (window_.any() && (domain_.tilted() || domain_.moving()))
+        detail::throw_input_error("a distributed run's search window cannot follow a sheared or moving cell (docs/mpi.md)");
     check_position_resolution();
     if (const StabilityLimit limit = stability_limit(); dt_ > limit.seconds && !allow_unstable_) {
         using C = StabilityLimit::Cause;
@@ -106,10 +112,12 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
                                   "; use dt <= ", limit.seconds, " (the paper uses t_c/50)", also,
                                   ", or allow_unstable_time_step(true) to run anyway");
     }
-    for (auto& x : particles_.position()) {
-        V wrapped = convert<double>(x);
-        domain_.wrap(wrapped);
-        x = convert<Real>(wrapped);
+    for (std::size_t i = 0; i < n; ++i) {  // a moving cell's wrap takes the image's velocity off (Domain::wrap)
+        auto& x = particles_.position()[i];
+        auto& v = particles_.template get<field::Velocity>()[i];
+        V wrapped = convert<double>(x), velocity = convert<double>(v);
+        domain_.wrap(wrapped, velocity);
+        x = convert<Real>(wrapped), v = convert<Real>(velocity);
     }
     if constexpr (has_walls) {
         for (std::size_t w = 0; w < walls_.size(); ++w) {
@@ -253,6 +261,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     }
     pairs_.commit_scratch(pair_order());
     reference_ = x;
+    lattice_reference_ = domain_.lattice();
     if constexpr (has_walls) {
         auto& wn = wall_contacts_.scratch();
         wn.clear();

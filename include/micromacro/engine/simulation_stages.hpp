@@ -65,11 +65,33 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         for (std::size_t k = 0; k < walls_.size(); ++k)
             wall_move = std::max(wall_move, std::abs(walls_[k].offset - wall_reference_[k]));
     }
+    // A moving cell deforms over the step; its images move by the change of the lattice, and a
+    // pair's separation changes by at most both partners' moves and the largest such image move.
+    double cell_move = 0.0;
+    if (domain_.moving()) cell_move = advance_cell(dt);
     time_ += dt;
     ++steps_;
     const double move = std::sqrt(max_move_sq);
     last_move_ = move;
-    if (2.0 * move >= skin_ || move + wall_move >= skin_) rebuild_neighbors();
+    if (2.0 * move + cell_move >= skin_ || move + wall_move >= skin_) rebuild_neighbors();
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::advance_cell(double dt) -> double {
+    const bool rebased = domain_.advance(dt);
+    for (int k = 0; k < dim; ++k)
+        if (domain_.periodic(k) && domain_.length(k) < 2.0 * interaction_range_)
+            throw SimulationError(detail::concat(
+                "at t = ", time_ + dt, " s the cell's axis ", k, " has shrunk to ", domain_.length(k),
+                ", shorter than two interaction ranges (2 x ", interaction_range_,
+                "): a particle would meet two images of one partner; stop the compression earlier, or start from a larger cell "
+                "(more particles)"));
+    if (rebased) return std::numeric_limits<double>::infinity();  // another column for a tilt: bin again
+    // |(H - H_search) n| for the images one period away in each direction: the columns' changes added.
+    double move = 0.0;
+    for (int k = 0; k < dim; ++k)
+        if (domain_.periodic(k)) move += (domain_.lattice().col(k) - lattice_reference_.col(k)).norm();
+    return move;
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>

@@ -26,6 +26,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
         ar.array(wall_books_);
     }
     ar.array(reference_);
+    ar.value(lattice_reference_);
     if constexpr (Integrator::keeps_previous_forces) {
         ar.array(previous_force_);
         if constexpr (rotation) ar.array(previous_torque_);

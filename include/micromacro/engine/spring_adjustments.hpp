@@ -28,7 +28,7 @@ void step_back_springs(const ContactLoopInput<dim, Real, History>& in, const Dom
         const double dist = d.norm();
         if (dist == 0.0) continue;
         const V n = d * (1.0 / dist);
-        const V vr = pair_point_velocity<rotation>(in, i, j, n);
+        const V vr = pair_point_velocity<rotation>(in, domain, i, j, d, n);
         law.step_back(n, vr, evaluated_dt, dt, pairs.history(c));
     }
     if (!walls) return;

@@ -36,7 +36,8 @@ inline constexpr char state_magic[] = "MICROMACRO-STATE";
 // 7: walls' shapes in the scene signature
 // 8: 2D tangential springs as components along the tangent (24-byte records)
 // 9: forces and torques in double whatever the storage precision
-inline constexpr std::uint32_t state_version = 9;
+// 10: the box's Lees-Edwards lattice and velocity gradient
+inline constexpr std::uint32_t state_version = 10;
 
 class StateWriter {
 public:

@@ -68,12 +68,14 @@ public:
         fill_.assign(cell_start_.begin(), cell_start_.end() - 1);
         for (Index i = 0; i < n; ++i) sorted_[fill_[cell_of_[i]]++] = i;
 
-        std::array<int, ipow3(dim)> neighbours{};
+        std::array<int, most_cells(dim)> neighbours{};
         std::vector<Index>& partners = partners_;
         for (Index i = 0; i < n; ++i) {
             const auto c = coords<dim>(x[i], lo, size, cells);
             int count = 0;
-            for (int s = 0; s < ipow3(dim); ++s) {
+            if (domain.tilted())
+                count = tilted_neighbours<dim>(convert<double>(x[i]), c, domain, lo, size, cells, range, neighbours);
+            else for (int s = 0; s < ipow3(dim); ++s) {
                 std::array<int, dim> nc{};
                 bool inside = true;
                 for (int k = 0, t = s; k < dim; ++k, t /= 3) {
@@ -103,6 +105,49 @@ public:
 
 private:
     static constexpr int ipow3(int d) { return d == 2 ? 9 : 27; }
+    // Room for four cells per axis: an interval two ranges long spans three cells at most, and a
+    // rounding at its ends may add one.
+    static constexpr int most_cells(int d) { return d == 2 ? 16 : 64; }
+
+    // The cells a partner of a particle at p (in cell c) can lie in, in a box with Lees-Edwards
+    // images (Domain::tilt): across the faces of a periodic axis k a partner's image is shifted by
+    // the tilts along the lower axes, so from the last axis down each axis takes the cells of the
+    // interval within `range` of p less the shift the images chosen so far add (at most three
+    // cells, which are at least a range wide), and the image each cell lies in adds its shift to
+    // the axes below. Open axes take the cells next to c, as without tilt. Returns the count.
+    template <int dim>
+    static int tilted_neighbours(const Vec<dim>& p, const std::array<int, dim>& c, const Domain<dim>& domain,
+                                 const std::array<double, dim>& lo, const std::array<double, dim>& size,
+                                 const std::array<int, dim>& cells, double range, std::array<int, most_cells(dim)>& out) {
+        int count = 0;
+        std::array<int, dim> at{};
+        const auto visit = [&](const auto& self, int k, Vec<dim> shift) -> void {
+            if (k < 0) {
+                const int id = linear_index<dim>(at, cells);
+                if (std::find(out.begin(), out.begin() + count, id) == out.begin() + count) out[count++] = id;
+                return;
+            }
+            int first = c[k] - 1, last = c[k] + 1;
+            if (domain.periodic(k)) {
+                first = static_cast<int>(std::floor((p[k] - shift[k] - range - lo[k]) / size[k]));
+                last = static_cast<int>(std::floor((p[k] - shift[k] + range - lo[k]) / size[k]));
+            }
+            for (int b = first; b <= last; ++b) {
+                Vec<dim> next = shift;
+                if (domain.periodic(k)) {
+                    const int image = b >= 0 ? b / cells[k] : -((-b - 1) / cells[k]) - 1;  // floor(b / cells)
+                    at[k] = b - image * cells[k];
+                    for (int i = 0; i < k; ++i) next[i] += image * domain.tilt(i, k);
+                } else {
+                    if (b < 0 || b >= cells[k]) continue;
+                    at[k] = b;
+                }
+                self(self, k - 1, next);
+            }
+        };
+        visit(visit, dim - 1, Vec<dim>::Zero());
+        return count;
+    }
 
     template <int dim, class Real>
     static std::array<int, dim> coords(const Vec<dim, Real>& p, const std::array<double, dim>& lo,
