@@ -52,13 +52,21 @@ struct Scene {
 // some apart; random velocities and spins, a few particles fast enough that their contacts are
 // in tension; one particle moved a whole period (its pairs take the full minimum image), one on
 // top of another. Springs: a quarter new, the rest touching with
-// random springs up to twice the Coulomb limit, sliding or not.
+// random springs up to twice the Coulomb limit, sliding or not. `sheared`: the box a moving cell,
+// its first axis tilted by about a third of a period along the last and sheared at a rate whose image
+// velocities match the particles' speeds (pairs across that boundary see their partners' images move).
 template <int dim, class Real>
-Scene<dim, Real> scene() {
+Scene<dim, Real> scene(bool sheared = false) {
     Scene<dim, Real> s;
     constexpr int side = dim == 3 ? 8 : 22;
     constexpr double spacing = 2.0;
     s.box = mm::Domain<dim>::fully_periodic(Vec<dim>::Zero(), Vec<dim>::Constant(side * spacing));
+    if (sheared) {
+        s.box.set_tilt(0, dim - 1, spacing * (side / 3));  // whole spacings: the lattice continues across
+        Eigen::Matrix<double, dim, dim> L = Eigen::Matrix<double, dim, dim>::Zero();
+        L(0, dim - 1) = 0.05 / (side * spacing);
+        s.box.set_velocity_gradient(L);
+    }
     std::mt19937_64 rng(7);
     std::uniform_real_distribution<double> jitter(-0.06, 0.06), radius(0.97, 1.03), speed(-0.05, 0.05), spin(-0.1, 0.1), unit(0.0, 1.0);
     for (int a = 0; a < side; ++a)
@@ -145,8 +153,8 @@ template <int dim>
 double magnitude(const Vec<dim>& a) { return a.norm(); }
 
 template <int dim, bool track, bool weighed, class Real>
-void compare(double owned_share, double ghost_share) {
-    const Scene<dim, Real> s = scene<dim, Real>();
+void compare(double owned_share, double ghost_share, bool sheared = false) {
+    const Scene<dim, Real> s = scene<dim, Real>(sheared);
     const auto owned_end = mm::Index(owned_share * double(s.x.size())), first_ghost = mm::Index(ghost_share * double(s.x.size()));
     const Result<dim> a = run<false, track, weighed>(s, owned_end, first_ghost);
     const Result<dim> b = run<true, track, weighed>(s, owned_end, first_ghost);
@@ -181,7 +189,9 @@ void compare(double owned_share, double ghost_share) {
         const Vec<dim> d = s.box.separation(s.x[p.i].template cast<double>(), s.x[p.j].template cast<double>());
         const double dist = d.norm(), overlap = double(s.r[p.i]) + double(s.r[p.j]) - dist;
         if (!(overlap > 0.0 && dist > 0.0)) continue;
-        const double vn = (d / dist).dot((s.v[p.i] - s.v[p.j]).template cast<double>());
+        const Vec<dim> dv = (s.v[p.i] - s.v[p.j]).template cast<double>() -
+                            s.box.image_velocity(Vec<dim>(s.x[p.i].template cast<double>() - s.x[p.j].template cast<double>() - d));
+        const double vn = (d / dist).dot(dv);
         tension += law.normal.stiffness() * overlap - law.normal.damping() * vn < 0.0;
     }
     BOOST_TEST(tension > 0u);
@@ -204,6 +214,8 @@ void compare(double owned_share, double ghost_share) {
         BOOST_TEST(same(a.books.dissipated_normal, b.books.dissipated_normal, scale));
         BOOST_TEST(same(a.books.dissipated_tangential, b.books.dissipated_tangential, scale));
         BOOST_TEST(same(a.books.dissipated_sliding, b.books.dissipated_sliding, scale));
+        BOOST_TEST(same(a.books.work_by_cell, b.books.work_by_cell, std::abs(a.books.work_by_cell)));
+        BOOST_TEST((a.books.work_by_cell != 0.0) == sheared);
     }
 }
 
@@ -222,6 +234,11 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(packet_loop_books_and_ghosts_as_the_scalar_loop, D
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(packet_loop_spills_as_the_scalar_loop, D, Dims) {
     compare<D::value, true, false, double>(0.5, 1.0);  // the second half belongs to a later thread's share
+}
+
+BOOST_AUTO_TEST_CASE_TEMPLATE(packet_loop_in_a_sheared_cell_is_the_scalar_loop, D, Dims) {
+    compare<D::value, false, false, double>(1.0, 1.0, true);
+    compare<D::value, true, false, double>(1.0, 1.0, true);  // the cell's work through the contacts across its boundary
 }
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(packet_loop_in_a_float_scene_is_the_scalar_loop, D, Dims) {

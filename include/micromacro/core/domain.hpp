@@ -170,10 +170,14 @@ public:
     }
     /// wrap(x) and the velocity v of a particle at x: an image moves at image_velocity relative
     /// to its original, so a particle brought back by a shift D keeps its motion relative to the
-    /// cell's flow by losing L D.
-    MICROMACRO_INLINE void wrap(V& x, V& v) const {
+    /// cell's flow by losing L D. Returns whether v changed.
+    MICROMACRO_INLINE bool wrap(V& x, V& v) const {
         V shift;
-        if (wrap_position(x, shift) && moving_) [[unlikely]] v -= image_velocity(shift);
+        if (wrap_position(x, shift) && moving_) [[unlikely]] {
+            v -= image_velocity(shift);
+            return true;
+        }
+        return false;
     }
 
     template <class Archive>

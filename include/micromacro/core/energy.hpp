@@ -19,6 +19,10 @@ struct EnergyBooks {
     double dissipated_walls = 0;       ///< damping of stress-controlled walls (gamma_w)
     double work_by_walls = 0;          ///< done on the system by moving walls and wall pressure
     double work_by_deformation = 0;    ///< energy put in by imposed affine deformations
+    /// done by a moving periodic cell (Domain::set_velocity_gradient): by the contacts across its
+    /// boundary, whose images move at the image velocity, and on a particle that crosses it and
+    /// takes its image's velocity
+    double work_by_cell = 0;
 
     /// Adds another account entry by entry (e.g. the threads' shares of one evaluation).
     void add(const EnergyBooks& o) {
@@ -29,6 +33,7 @@ struct EnergyBooks {
         dissipated_walls += o.dissipated_walls;
         work_by_walls += o.work_by_walls;
         work_by_deformation += o.work_by_deformation;
+        work_by_cell += o.work_by_cell;
     }
 
     /// Adds the mean of two evaluations' bookings (trapezoid rule), `a` the later. Rates times dt
@@ -42,9 +47,10 @@ struct EnergyBooks {
         dissipated_walls += 0.5 * (a.dissipated_walls + b.dissipated_walls);
         work_by_walls += 0.5 * (a.work_by_walls + b.work_by_walls);
         work_by_deformation += 0.5 * (a.work_by_deformation + b.work_by_deformation);
+        work_by_cell += 0.5 * (a.work_by_cell + b.work_by_cell);
     }
 
-    double work_in() const { return work_by_walls + work_by_deformation; }
+    double work_in() const { return work_by_walls + work_by_deformation + work_by_cell; }
 
     double dissipated() const {
         return dissipated_normal + dissipated_tangential + dissipated_sliding + dissipated_background +

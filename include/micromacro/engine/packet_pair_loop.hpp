@@ -258,6 +258,14 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
                 force = Vec<3>(out[0][k], out[1][k], out[2][k]);
                 arm = Vec<3>(out[3][k], out[4][k], out[5][k]);
             }
+            if constexpr (track && periodic)
+                if (domain.moving()) [[unlikely]] {  // the cell's power through the contact, as in scalar_pair_loop
+                    Vec<dim> d;
+                    d[0] = sx[k], d[1] = sy[k];
+                    if constexpr (dim == 3) d[2] = sz[k];
+                    const double weight = weighed && std::max(i, j) >= in.first_ghost ? 0.5 : 1.0;
+                    account.work_by_cell += weight * force.dot(domain.image_velocity(Vec<dim>(convert<double>(x[i]) - convert<double>(x[j]) - d))) * dt;
+                }
             fi += force;
             ti -= Angular<dim>(ri * arm);  // torque on i is (-a_i n) x f_t
             add_partner_force<dim, true>(j, force, arm, double(r[j]), f, torque, owned_end, spill);

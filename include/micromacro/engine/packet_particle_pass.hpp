@@ -25,6 +25,20 @@
 
 namespace micromacro::detail {
 
+/// What a kick-drift pass reports: the largest and the summed squared displacements from the
+/// references, and the kinetic energy the particles that crossed a moving cell's boundary gained
+/// by taking their images' velocities (Domain::wrap; the cell's work, EnergyBooks::work_by_cell).
+struct DriftTotals {
+    double max_move_sq = 0.0, sum_move_sq = 0.0, wrap_energy = 0.0;
+};
+
+/// The kinetic energy a particle of inverse mass inv_m gains when its velocity changes from
+/// `before` to `after` (nothing for one of infinite mass).
+template <int dim>
+double kinetic_change(const Vec<dim>& before, const Vec<dim>& after, double inv_m) {
+    return inv_m > 0.0 ? 0.5 * (after.squaredNorm() - before.squaredNorm()) / inv_m : 0.0;
+}
+
 /// Whether the kick-drift pass runs on packets: double storage, where the compiler targets
 /// AVX-512.
 template <class Real>
@@ -107,7 +121,7 @@ struct PacketLayout {
 /// kick_drift_pass over the first 8 floor(n / 8) particles, eight at a time; the arguments and
 /// the result as kick_drift_pass's, which calls it and does the rest.
 template <bool periodic, bool rotation, bool keeps_previous_forces, int dim, class Arrays>
-std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<dim>& box, double h_before, double dt,
+DriftTotals packet_kick_drift_pass(const Arrays& a, const Domain<dim>& box, double h_before, double dt,
                                                  double h_after, double h_closing, [[maybe_unused]] int threads) {
     namespace pk = packets;
     using pk::Lane;
@@ -136,10 +150,10 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
     const PacketLayout<dim> layout(domain);
     const std::size_t count = a.n / 8;
     const double h_spin = h_before + h_after;
-    double max_move_sq = 0.0, sum_move_sq = 0.0;
+    double max_move_sq = 0.0, sum_move_sq = 0.0, wrap_energy = 0.0;
     // One share of the packets per thread, its largest and summed displacements in lanes until
     // the end (firstprivate: see kick_drift_pass).
-    MICROMACRO_OMP(omp parallel num_threads(threads) reduction(max : max_move_sq) reduction(+ : sum_move_sq)
+    MICROMACRO_OMP(omp parallel num_threads(threads) reduction(max : max_move_sq) reduction(+ : sum_move_sq, wrap_energy)
                        firstprivate(x, v, f, inv_m, w, torque, inv_I, f_old, torque_old, reference, domain, layout, h_before,
                                     dt, h_after, h_closing, h_spin) if (threads > 1))
     {
@@ -177,7 +191,7 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
                         Vec<dim> xl = Eigen::Map<const Vec<dim>>(numbers + dim * l);
                         Eigen::Map<Vec<dim>> vl(v + at + dim * std::size_t(l));
                         Vec<dim> velocity = vl;
-                        domain.wrap(xl, velocity);
+                        if (domain.wrap(xl, velocity)) wrap_energy += kinetic_change<dim>(vl, velocity, inv_m[8 * p + std::size_t(l)]);
                         vl = velocity;
                         Eigen::Map<Vec<dim>>(numbers + dim * l) = xl;
                     }
@@ -235,7 +249,7 @@ std::pair<double, double> packet_kick_drift_pass(const Arrays& a, const Domain<d
             sum_move_sq += lanes[1][l];
         }
     }
-    return {max_move_sq, sum_move_sq};
+    return {max_move_sq, sum_move_sq, wrap_energy};
 }
 #endif
 

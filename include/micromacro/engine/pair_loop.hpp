@@ -175,9 +175,12 @@ void scalar_pair_loop(const ContactLoopInput<dim, Real, History>& in, const Doma
             const V& n = kinematics.normal;
             kinematics.normal = separation[k] * inverse_distance[k];
             V dv = convert<double>(v[i]) - convert<double>(v[j]);
+            [[maybe_unused]] V image_velocity = V::Zero();
             if constexpr (periodic)
-                if (domain.moving()) [[unlikely]]  // j's image moves with the cell (pair_velocity_difference)
-                    dv -= domain.image_velocity(V(convert<double>(x[i]) - convert<double>(x[j]) - separation[k]));
+                if (domain.moving()) [[unlikely]] {  // j's image moves with the cell (pair_velocity_difference)
+                    image_velocity = domain.image_velocity(V(convert<double>(x[i]) - convert<double>(x[j]) - separation[k]));
+                    dv -= image_velocity;
+                }
             kinematics.relative_velocity = contact_point_velocity<rotation>(n, dv, w, i, j, ri, rj);
             kinematics.overlap = reach - distance[k];
             kinematics.normal_velocity = n.dot(dv);
@@ -193,6 +196,9 @@ void scalar_pair_loop(const ContactLoopInput<dim, Real, History>& in, const Doma
             }();
             const double weight = weighed && std::max(i, j) >= in.first_ghost ? 0.5 : 1.0;
             const ContactResponse<dim> resp = respond<track>(law, kinematics, h, account, false, weight);
+            // The cell's power through a contact across its boundary: i feels the force, j's image
+            // moves at image_velocity (zero for every other contact).
+            if constexpr (track && periodic) account.work_by_cell += weight * resp.force.dot(image_velocity) * dt;
             Angular<dim> arm{};
             if constexpr (rotation) arm = DimTraits<dim>::cross(n, resp.tangential);
             add_pair_force<dim, rotation>(i, j, resp.force, arm, ri, rj, f, torque, owned_end, spill);

@@ -51,7 +51,7 @@ void kick_force_change_pass(const ParticleArrays<dim, Real>& a, double h, [[mayb
 
 /// kick_drift_pass over particles [first, n), one at a time.
 template <bool periodic, bool rotation, bool keeps_previous_forces, int dim, class Real>
-std::pair<double, double> scalar_kick_drift_pass(const ParticleArrays<dim, Real>& a, std::size_t first, const Domain<dim>& box,
+DriftTotals scalar_kick_drift_pass(const ParticleArrays<dim, Real>& a, std::size_t first, const Domain<dim>& box,
                                                  double h_before, double dt, double h_after, double h_closing,
                                                  [[maybe_unused]] int threads) {
     using V = Vec<dim>;
@@ -71,10 +71,10 @@ std::pair<double, double> scalar_kick_drift_pass(const ParticleArrays<dim, Real>
     // A local copy: the stores to x and v could alias the caller's box, which the compiler would
     // then reload for every particle.
     const Domain<dim> domain = box;
-    double max_move_sq = 0.0, sum_move_sq = 0.0;
+    double max_move_sq = 0.0, sum_move_sq = 0.0, wrap_energy = 0.0;
     // firstprivate: shared, the scalars and pointers would be read through the outlined
     // function's argument block for every particle (the stores to x, v, w may alias it).
-    MICROMACRO_OMP(omp parallel for num_threads(threads) schedule(static) reduction(max : max_move_sq) reduction(+ : sum_move_sq)
+    MICROMACRO_OMP(omp parallel for num_threads(threads) schedule(static) reduction(max : max_move_sq) reduction(+ : sum_move_sq, wrap_energy)
                        firstprivate(x, v, f, inv_m, w, torque, inv_I, f_old, torque_old, reference, domain, h_before, dt,
                                     h_after, h_closing) if (threads > 1))
     for (std::size_t i = first; i < n; ++i) {
@@ -96,7 +96,10 @@ std::pair<double, double> scalar_kick_drift_pass(const ParticleArrays<dim, Real>
         vi += h_before * acc;
         V xi = convert<double>(x[i]) + dt * vi;
         vi += h_after * acc;
-        if constexpr (periodic) domain.wrap(xi, vi);
+        if constexpr (periodic) {
+            const V before = vi;
+            if (domain.wrap(xi, vi)) [[unlikely]] wrap_energy += kinetic_change<dim>(before, vi, double(inv_m[i]));
+        }
         // The displacement from the stored value, not reloaded from x[i]: wrap() stores
         // coordinates one by one, and a vector load right after them stalls.
         const SV stored = convert<Real>(xi);
@@ -116,25 +119,27 @@ std::pair<double, double> scalar_kick_drift_pass(const ParticleArrays<dim, Real>
         }
         if constexpr (!keeps_previous_forces) f[i] = V::Zero();  // read for the last time
     }
-    return {max_move_sq, sum_move_sq};
+    return {max_move_sq, sum_move_sq, wrap_energy};
 }
 
 /// Kick by h_before, drift by dt, kick by h_after, with h_closing != 0 first the closing kick of
 /// the step before (integrators that keep the previous forces; double storage only, see
 /// BasicSimulation::kick_drift_kick). Clears the array the next force evaluation accumulates
 /// into once its values are dead. Returns the largest squared displacement from the references
-/// and the sum of them all (finite unless a particle blew up). Eight particles at a time where
+/// and the sum of them all (finite unless a particle blew up), and the kinetic energy of the
+/// velocities taken off at a moving cell's boundary (DriftTotals). Eight particles at a time where
 /// packet_particle_pass_applies (the last n mod 8 one by one), else one at a time.
 template <bool periodic, bool rotation, bool keeps_previous_forces, int dim, class Real>
-std::pair<double, double> kick_drift_pass(const ParticleArrays<dim, Real>& a, const Domain<dim>& box, double h_before, double dt,
-                                          double h_after, double h_closing, int threads) {
+DriftTotals kick_drift_pass(const ParticleArrays<dim, Real>& a, const Domain<dim>& box, double h_before, double dt,
+                            double h_after, double h_closing, int threads) {
     if constexpr (packet_particle_pass_applies<Real>) {
         if (a.n >= 8) {
-            const auto [max_packets, sum_packets] = packet_kick_drift_pass<periodic, rotation, keeps_previous_forces>(
+            const DriftTotals packets = packet_kick_drift_pass<periodic, rotation, keeps_previous_forces>(
                 a, box, h_before, dt, h_after, h_closing, threads);
-            const auto [max_rest, sum_rest] = scalar_kick_drift_pass<periodic, rotation, keeps_previous_forces>(
+            const DriftTotals rest = scalar_kick_drift_pass<periodic, rotation, keeps_previous_forces>(
                 a, a.n - a.n % 8, box, h_before, dt, h_after, h_closing, 1);
-            return {max_rest > max_packets ? max_rest : max_packets, sum_packets + sum_rest};
+            return {rest.max_move_sq > packets.max_move_sq ? rest.max_move_sq : packets.max_move_sq,
+                    packets.sum_move_sq + rest.sum_move_sq, packets.wrap_energy + rest.wrap_energy};
         }
     }
     return scalar_kick_drift_pass<periodic, rotation, keeps_previous_forces>(a, 0, box, h_before, dt, h_after, h_closing, threads);

@@ -32,7 +32,7 @@ struct BookSums {
     void for_each_number(F&& f) {
         for (EnergyBooks* e : {&b.books, &b.last_evaluation})
             for (double* x : {&e->dissipated_normal, &e->dissipated_tangential, &e->dissipated_sliding, &e->dissipated_background,
-                              &e->dissipated_walls, &e->work_by_walls, &e->work_by_deformation})
+                              &e->dissipated_walls, &e->work_by_walls, &e->work_by_deformation, &e->work_by_cell})
                 f(*x);
         f(b.initial_energy);
         for (auto& w : b.walls) f(w.push);
