@@ -11,6 +11,7 @@
 #include <random>
 #include <vector>
 
+#include "support/expect_error.hpp"
 #include "support/scenes.hpp"
 
 using namespace mmtest;
@@ -406,4 +407,33 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(energy_books_of_a_sheared_cell_close, D, Dims) {
     BOOST_TEST(coarse.max_residual < 5e-3);  // measured 0.9e-3 (2D), 2.9e-3 (3D); 0.14-0.2 without the wraps' share
     BOOST_TEST(coarse.max_residual / fine.max_residual > 3.0);  // second order
     BOOST_TEST(with_friction.max_residual < 5e-3);
+}
+
+// A cell's motion that cannot be followed is refused with the entry, the reason and the fix, and
+// the refused call changes nothing: an entry below the diagonal, one joining an open axis, a
+// stretch of an open axis, a non-finite rate, and a moving cell in a scene with walls.
+BOOST_AUTO_TEST_CASE(impossible_cell_motions_are_refused) {
+    using V = mm::Vec<3>;
+    mm::Domain<3> box(V::Zero(), V::Constant(1.0), {true, true, false});
+    Matrix<3> L = Matrix<3>::Zero();
+    L(1, 0) = 1.0;
+    expect_error([&] { box.set_velocity_gradient(L); }, {"entry (1, 0) = 1", "below the diagonal", "(0, 1)"});
+    L.setZero(), L(0, 2) = 1.0;
+    expect_error([&] { box.set_velocity_gradient(L); }, {"entry (0, 2) = 1", "axis 2", "open"});
+    L.setZero(), L(2, 2) = 1.0;
+    expect_error([&] { box.set_velocity_gradient(L); }, {"entry (2, 2) = 1", "stretches axis 2", "open"});
+    L.setZero(), L(0, 1) = std::nan("");
+    expect_error([&] { box.set_velocity_gradient(L); }, {"entry (0, 1) is nan", "finite"});
+    expect_error([&] { box.set_tilt(1, 2, 0.1); }, {"tilt entry (1, 2)", "open"});
+    BOOST_TEST(!box.moving());
+    BOOST_TEST(!box.tilted());
+    mm::Walls<2> walls;
+    walls.add_axis_aligned(1, true, 0.0);
+    walls.add_axis_aligned(1, false, 1.0);
+    mm::Simulation<2, mm::FrictionlessLinear, mm::Walls<2>> sim(mm::FrictionlessLinear{mm::LinearSpringDashpot(k, 0.0)},
+                                                               mm::Domain<2>(mm::Vec<2>::Zero(), mm::Vec<2>::Constant(1.0), {true, false}), walls);
+    Matrix<2> shear = Matrix<2>::Zero();
+    shear(0, 0) = 1.0;
+    expect_error([&] { sim.set_velocity_gradient(shear); }, {"velocity gradient", "has walls", "drive the walls"});
+    BOOST_TEST(!sim.domain().moving());
 }

@@ -27,7 +27,8 @@ struct AveragingOptions {
     SelectionRule rule = SelectionRule::contact_point;
     /// Leave out particles with fewer than dim + 1 contacts (found iteratively) and their contacts.
     bool exclude_rattlers = false;
-    /// Add the kinetic stress 1/V sum m v (x) v of the particles with centres inside.
+    /// Add the kinetic stress 1/V sum m v (x) v of the particles with centres inside, v measured
+    /// against a moving periodic cell's flow L (x - centre) (Domain::velocity_gradient).
     bool kinetic_stress = false;
     /// Leave sliding contacts out of the tangential stiffness (their tangential spring is at the
     /// Coulomb limit and does not respond elastically).
@@ -204,8 +205,11 @@ AverageSums<dim> average_sums(const PackingSnapshot<dim>& s, const Region<dim>& 
         out.particles += 1.0;
         out.rattlers += cw.rattler[p];
         out.solid += DimTraits<dim>::particle_volume(s.radius[p]);
-        if (opt.kinetic_stress && !s.velocity.empty())
-            out.stress_kinetic += s.mass[p] * s.velocity[p] * s.velocity[p].transpose() / V;
+        if (opt.kinetic_stress && !s.velocity.empty()) {
+            Vec<dim> v = s.velocity[p];
+            if (s.domain.moving()) v -= s.domain.velocity_gradient() * (s.position[p] - s.domain.centre());
+            out.stress_kinetic += s.mass[p] * v * v.transpose() / V;
+        }
         if (opt.exclude_rattlers && cw.rattler[p]) continue;
         out.counted += 1.0;
         out.contact_sum += contacts_of[p];

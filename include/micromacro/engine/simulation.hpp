@@ -83,7 +83,7 @@ public:
     const Domain<dim>& domain() const { return domain_; }
     /// The periodic cell's velocity gradient (Domain::set_velocity_gradient): from the next step
     /// the cell deforms with it, its images moving with their shifts (an element test's drive).
-    void set_velocity_gradient(const Eigen::Matrix<double, dim, dim>& L) { domain_.set_velocity_gradient(L); }
+    void set_velocity_gradient(const Eigen::Matrix<double, dim, dim>& L) { check_cell_motion(!L.isZero(0.0), domain_.tilted()), domain_.set_velocity_gradient(L); }
     const Law& law() const { return law_; }
     /// The contact law may be changed between steps (e.g. friction switched on after a
     /// frictionless preparation); the stability limit is checked again at the next prepare().
@@ -346,8 +346,8 @@ private:
 
     [[noreturn]] void report_blow_up() const;
 
-    // See micromacro::check_position_resolution (engine/stability.hpp).
-    void check_position_resolution() const;
+    void check_position_resolution() const;  // see micromacro::check_position_resolution (engine/stability.hpp)
+    void check_cell_motion(bool moving, bool tilted) const;  // a moving cell drives a scene without walls, not distributed
 
     Law law_;
     Domain<dim> domain_;

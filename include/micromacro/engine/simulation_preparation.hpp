@@ -82,6 +82,15 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::check_cell_motion(bool moving, bool tilted) const -> void {
+    if (has_walls && moving)
+        detail::throw_input_error("the periodic cell has a velocity gradient and the scene has walls; a moving cell drives a "
+                                  "scene without walls (an element test): drive the walls by their motions instead");
+    if (window_.any() && (tilted || moving))
+        detail::throw_input_error("a distributed run's search window cannot follow a sheared or moving cell (docs/mpi.md)");
+}
+
+template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::prepare() -> void {
     if (!(dt_ > 0.0))
         detail::throw_input_error("no time step set; call set_time_step(dt), e.g. dt = t_c / 50");
@@ -92,11 +101,7 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     if (!(skin_ > 0.0)) skin_ = default_skin(r);
     interaction_range_ = n ? interaction_range(r, skin_) : 0.0;
     if (n) domain_.check_interaction_range(interaction_range_);
-    if (has_walls && domain_.moving())
-        detail::throw_input_error("the periodic cell has a velocity gradient and the scene has walls; a moving cell drives a "
-                                  "scene without walls (an element test): drive the walls by their motions instead");
-    if (window_.any() && (domain_.tilted() || domain_.moving()))
-        detail::throw_input_error("a distributed run's search window cannot follow a sheared or moving cell (docs/mpi.md)");
+    check_cell_motion(domain_.moving(), domain_.tilted());
     check_position_resolution();
     if (const StabilityLimit limit = stability_limit(); dt_ > limit.seconds && !allow_unstable_) {
         using C = StabilityLimit::Cause;

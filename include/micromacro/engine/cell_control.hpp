@@ -1,0 +1,182 @@
+#pragma once
+// An element test's drive: each component (i, k), i <= k, of a periodic cell's velocity gradient
+// L (upper triangular, Domain::set_velocity_gradient) is either held at zero, prescribed (a
+// rate, or a strain path F_ik(t) of the cell's deformation gradient), or servo-controlled to a
+// target component of the cell's stress, which the averaging layer takes over the whole cell
+// (contact and kinetic parts). The controller sets L at the start of each interval of steps
+// from the stress measured then, and follows the cell's deformation gradient F (the lattice
+// over its starting one, tilts not re-based), stepping it as Domain::advance steps the lattice.
+//
+// The servo is proportional: L_ik = gain (sigma_ik - target_ik), limited to +-max_rate, sigma_ik the
+// symmetric part (sigma_ik + sigma_ki) / 2 (a packing not at rest has some asymmetry). Stress is
+// compression positive, so an excess expands the cell (or shears it further in the sense that
+// lowers sigma_ik). Its steady error is the rate the loading asks of the component divided by
+// the gain, which vanishes in the quasi-static limit whatever the gain: docs/element-tests.md
+// measures how little the result depends on it.
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <functional>
+#include <string>
+
+#include "micromacro/averaging/micro_macro.hpp"
+#include "micromacro/averaging/region.hpp"
+#include "micromacro/core/error.hpp"
+#include "micromacro/engine/snapshot.hpp"
+
+namespace micromacro {
+
+template <int dim>
+class CellControl {
+public:
+    using Matrix = Eigen::Matrix<double, dim, dim>;
+    /// F_ik as a function of the time since the control started (s).
+    using StrainPath = std::function<double(double)>;
+
+    /// gain: the servo's strain rate per unit stress error (1/(Pa s) in 3D, 1/((N/m) s) in 2D);
+    /// max_rate: the largest strain rate a servo asks for (1/s); interval: steps between
+    /// measurements of the stress (and updates of L).
+    CellControl(double gain, double max_rate, std::size_t interval = 10) : gain_(gain), max_rate_(max_rate), interval_(interval) {
+        detail::require_non_negative(gain, "cell servo gain", "use 0 for servos that hold their components still");
+        detail::require_positive(max_rate, "cell servo's largest strain rate", "give the fastest rate a servo may drive, in 1/s");
+        if (interval == 0) detail::throw_input_error("CellControl: the measuring interval is 0 steps; it must be at least 1");
+    }
+
+    /// L_ik held at `rate` (1/s): a stretch rate for i = k, a shear rate of axis i along k for i < k.
+    CellControl& rate(int i, int k, double rate) { return set(i, k, {Kind::rate, rate, {}, 0.0}); }
+    /// F_ik follows `path` (F_kk = 1 + engineering strain, F_ik = shear strain for i < k).
+    CellControl& strain_path(int i, int k, StrainPath path) { return set(i, k, {Kind::path, 0.0, std::move(path), 0.0}); }
+    /// sigma_ik servo-controlled to `target` (Pa in 3D, N/m in 2D; compression positive).
+    CellControl& stress(int i, int k, double target) { return set(i, k, {Kind::stress, 0.0, {}, target}); }
+    /// The stress servo-controlled to the isotropic p 1: every normal stress to p, every shear
+    /// stress to zero (isotropic loading; held at zero rate, the shears would keep what the
+    /// packing's preparation left them).
+    CellControl& pressure(double p) {
+        for (int k = 0; k < dim; ++k)
+            for (int i = 0; i <= k; ++i) stress(i, k, i == k ? p : 0.0);
+        return *this;
+    }
+    /// L_ik held at zero (the default of every component).
+    CellControl& hold(int i, int k) { return set(i, k, {}); }
+
+    bool servoed(int i, int k) const { return component_[i][k].kind == Kind::stress; }
+    double target(int i, int k) const { return component_[i][k].target; }
+
+    /// The cell's averages over its whole volume, kinetic stress included (relative to the flow).
+    template <class Sim>
+    static MicroMacro<dim> measure(const Sim& sim) {
+        const PackingSnapshot<dim> s = take_snapshot(sim);
+        AveragingOptions opt;
+        opt.kinetic_stress = true;
+        return average(s, Region<dim>::whole(s), opt);
+    }
+
+    /// One interval: measures the stress where a servo needs it, sets L, runs the steps (at most
+    /// `steps`, default the interval) and steps F. Returns the steps run.
+    template <class Sim>
+    std::size_t step(Sim& sim, std::size_t steps = 0) {
+        const std::size_t n = steps == 0 ? interval_ : std::min(steps, interval_);
+        const double dt = sim.time_step(), span = double(n) * dt;
+        if (any_servo()) last_ = measure(sim);
+        const Matrix L = gradient(span);
+        sim.set_velocity_gradient(L);
+        sim.run(n);
+        const Matrix step = Matrix::Identity() + L * dt + 0.5 * (L * dt) * (L * dt);  // as Domain::advance
+        for (std::size_t s = 0; s < n; ++s) deformation_ = (step * deformation_).eval();
+        time_ += span;
+        return n;
+    }
+
+    /// Runs `steps` steps, interval by interval.
+    template <class Sim>
+    void run(Sim& sim, std::size_t steps) {
+        for (std::size_t done = 0; done < steps;) done += step(sim, steps - done);
+    }
+
+    /// F: the cell's deformation since the control started (its lattice over the lattice then).
+    const Matrix& deformation() const { return deformation_; }
+    /// The time the control has run (s).
+    double time() const { return time_; }
+    /// The average the servos last measured (empty before the first interval with a servo).
+    const MicroMacro<dim>& last_measurement() const { return last_; }
+
+    template <class Archive>
+    void serialize(Archive& ar) {
+        ar.value(deformation_);
+        ar.value(time_);
+    }
+
+private:
+    enum class Kind { hold, rate, path, stress };
+    struct Component {
+        Kind kind = Kind::hold;
+        double rate = 0.0;
+        StrainPath path;
+        double target = 0.0;
+    };
+
+    CellControl& set(int i, int k, Component c) {
+        if (i < 0 || k >= dim || i > k)
+            detail::throw_input_error("CellControl: component (", i, ", ", k, ") is not on or above the diagonal of a ", dim,
+                                      "D cell's velocity gradient; give (i, k) with 0 <= i <= k < ", dim,
+                                      " (every deformation is an upper-triangular one up to a rotation)");
+        if (c.kind == Kind::rate && !std::isfinite(c.rate))
+            detail::throw_input_error("CellControl: the rate of component (", i, ", ", k, ") is ", c.rate, "; it must be finite");
+        if (c.kind == Kind::stress && !std::isfinite(c.target))
+            detail::throw_input_error("CellControl: the stress target of component (", i, ", ", k, ") is ", c.target,
+                                      "; it must be finite");
+        if (c.kind == Kind::path && !c.path)
+            detail::throw_input_error("CellControl: the strain path of component (", i, ", ", k, ") is empty");
+        component_[i][k] = std::move(c);
+        return *this;
+    }
+
+    bool any_servo() const {
+        for (int k = 0; k < dim; ++k)
+            for (int i = 0; i <= k; ++i)
+                if (component_[i][k].kind == Kind::stress) return true;
+        return false;
+    }
+
+    // L for the next `span` seconds, column by column: a path's off-diagonal entry needs the
+    // entries of its row in the columns before (dF/dt = L F, both upper triangular).
+    Matrix gradient(double span) const {
+        Matrix L = Matrix::Zero();
+        for (int k = 0; k < dim; ++k)
+            for (int i = k; i >= 0; --i) {
+                const Component& c = component_[i][k];
+                switch (c.kind) {
+                    case Kind::hold: break;
+                    case Kind::rate: L(i, k) = c.rate; break;
+                    case Kind::stress:
+                        L(i, k) = std::clamp(gain_ * (0.5 * (last_.stress(i, k) + last_.stress(k, i)) - c.target), -max_rate_, max_rate_);
+                        break;
+                    case Kind::path: L(i, k) = path_rate(L, i, k, c.path(time_ + span), span); break;
+                }
+            }
+        return L;
+    }
+
+    // The rate that brings F_ik to `goal` over `span`, the row's other entries given.
+    double path_rate(const Matrix& L, int i, int k, double goal, double span) const {
+        const Matrix& F = deformation_;
+        if (i == k) {
+            if (!(goal > -1.0))
+                detail::throw_input_error("CellControl: the strain path of axis ", k, " asks for ", goal,
+                                          ", a length of ", 1.0 + goal, " times the start; it must stay above -1");
+            return std::log((1.0 + goal) / F(k, k)) / span;
+        }
+        double others = 0.0;
+        for (int j = i; j < k; ++j) others += L(i, j) * F(j, k);
+        return ((goal - F(i, k)) / span - others) / F(k, k);
+    }
+
+    double gain_, max_rate_;
+    std::size_t interval_;
+    Component component_[dim][dim];
+    Matrix deformation_ = Matrix::Identity();
+    double time_ = 0.0;
+    MicroMacro<dim> last_;
+};
+
+}  // namespace micromacro

@@ -1,0 +1,92 @@
+// An element test's drive (engine/cell_control.hpp): a strain path is followed to the integrator's
+// round-off whatever the other components do, the cell's lattice is the deformation gradient
+// times the starting one, and a stress servo brings a gas to a jammed packing at the target
+// pressure and holds it there; 2D and 3D.
+#define BOOST_TEST_MODULE physics_cell_control
+#include <boost/test/unit_test.hpp>
+
+#include <cmath>
+#include <random>
+
+#include <micromacro/engine/cell_control.hpp>
+
+#include "support/expect_error.hpp"
+#include "support/scenes.hpp"
+
+using namespace mmtest;
+
+namespace {
+template <int dim>
+using Matrix = Eigen::Matrix<double, dim, dim>;
+template <int dim>
+using Cell = mm::Simulation<dim, mm::FrictionalLinear, mm::NoWalls, mm::VelocityVerlet, mm::LinkedCells, mm::AffineDamping>;
+
+// A periodic gas of radii 0.5-1 mm at a volume fraction near 0.5 (2D) or 0.3 (3D), at rest.
+template <int dim>
+Cell<dim> gas(std::size_t n, unsigned seed) {
+    const double L = dim == 2 ? 0.03 : 0.0085;
+    const auto p = random_packing<dim>(n, 0.5e-3, 1.0e-3, L, seed, false, true);
+    const double tc = mm::contact_duration(k, gamma0, mm::sphere_mass(rho, 0.5e-3) / 2);
+    Cell<dim> sim(mm::FrictionalLinear{mm::LinearSpringDashpot(k, gamma0), mm::CundallStrack(0.2 * k, 0.2 * gamma0, 0.5)},
+                  periodic_box<dim>(L), {}, {}, {}, mm::AffineDamping(mm::sphere_mass(rho, 0.75e-3) / (20 * tc), 0.0));
+    for (std::size_t i = 0; i < p.x.size(); ++i) sim.particles().add(p.x[i], p.r[i], mm::sphere_mass(rho, p.r[i]));
+    sim.set_time_step(tc / 50);
+    return sim;
+}
+}  // namespace
+
+
+// Prescribed paths on every component at once (a compression with shears of every axis pair):
+// F_ik reaches each path's value at the end to round-off, and the lattice is F times the start.
+BOOST_AUTO_TEST_CASE_TEMPLATE(strain_paths_are_followed, D, Dims) {
+    constexpr int dim = D::value;
+    auto sim = gas<dim>(100, 3);
+    const double T = 2000 * sim.time_step();
+    mm::CellControl<dim> control(0.0, 1.0);
+    const auto path = [T](double amplitude) { return [=](double t) { return amplitude * std::sin(0.5 * M_PI * t / T); }; };
+    for (int a = 0; a < dim; ++a) control.strain_path(a, a, path(-0.02 * (a + 1)));
+    control.strain_path(0, dim - 1, path(0.4));
+    if constexpr (dim == 3) control.strain_path(0, 1, path(-0.2)).strain_path(1, 2, path(0.3));
+    const Matrix<dim> start = sim.domain().lattice();
+    control.run(sim, 2000);
+    const Matrix<dim> F = control.deformation();
+    BOOST_TEST(control.time() == T, boost::test_tools::tolerance(1e-12));
+    for (int a = 0; a < dim; ++a) BOOST_TEST(F(a, a) == 1.0 - 0.02 * (a + 1), boost::test_tools::tolerance(1e-9));
+    BOOST_TEST(F(0, dim - 1) == 0.4, boost::test_tools::tolerance(1e-9));
+    if constexpr (dim == 3) {
+        BOOST_TEST(F(0, 1) == -0.2, boost::test_tools::tolerance(1e-9));
+        BOOST_TEST(F(1, 2) == 0.3, boost::test_tools::tolerance(1e-9));
+    }
+    const Matrix<dim> expected = F * start;  // no tilt passed half a period: nothing re-based
+    BOOST_TEST((sim.domain().lattice() - expected).norm() <= 1e-12 * expected.norm());
+}
+
+// A gas compressed by the pressure servo ends jammed at the target pressure, each normal stress
+// at it and the shear stresses near zero, the particles nearly at rest.
+BOOST_AUTO_TEST_CASE_TEMPLATE(pressure_servo_jams_a_gas_at_the_target, D, Dims) {
+    constexpr int dim = D::value;
+    auto sim = gas<dim>(dim == 2 ? 300 : 250, 5);
+    const double p = dim == 2 ? 1000.0 : 1e6;  // N/m, Pa: overlaps about 1% of a radius
+    const double max_rate = dim == 2 ? 50.0 : 20.0;
+    mm::CellControl<dim> control(4 * max_rate / p, max_rate);
+    control.pressure(p);
+    control.run(sim, dim == 2 ? 100000 : 80000);
+    const auto m = control.measure(sim);
+    BOOST_TEST_MESSAGE(dim << "D: pressure " << m.pressure << " for " << p << ", volume fraction " << m.volume_fraction
+                           << ", coordination " << m.coordination << ", stress\n" << m.stress);
+    for (int a = 0; a < dim; ++a) BOOST_TEST(m.stress(a, a) == p, boost::test_tools::tolerance(2e-3));  // measured 2e-4
+    for (int a = 0; a < dim; ++a)
+        for (int b = a + 1; b < dim; ++b) BOOST_TEST(std::abs(m.stress(a, b) + m.stress(b, a)) < 0.004 * p);
+    BOOST_TEST(m.stress_kinetic.norm() < 1e-4 * p);
+    BOOST_TEST(m.coordination > (dim == 2 ? 3.0 : 4.0));
+}
+
+BOOST_AUTO_TEST_CASE(bad_components_are_refused) {
+    mm::CellControl<3> control(1.0, 1.0);
+    expect_error([&] { control.rate(2, 1, 1.0); }, {"component (2, 1)", "0 <= i <= k < 3"});
+    expect_error([&] { control.stress(0, 3, 1.0); }, {"component (0, 3)"});
+    expect_error([&] { control.rate(0, 1, std::nan("")); }, {"rate of component (0, 1)", "finite"});
+    expect_error([&] { mm::CellControl<2>(-1.0, 1.0); }, {"gain", "-1"});
+    expect_error([&] { mm::CellControl<2>(1.0, 0.0); }, {"largest strain rate"});
+    expect_error([&] { mm::CellControl<2>(1.0, 1.0, 0); }, {"interval is 0 steps"});
+}
