@@ -30,6 +30,7 @@
 #include "micromacro/averaging/region.hpp"
 #include "micromacro/averaging/snapshot.hpp"
 #include "micromacro/averaging/tensor.hpp"
+#include "micromacro/engine/cell_control.hpp"
 #include "micromacro/engine/collision_probe.hpp"
 #include "micromacro/engine/contact_view.hpp"
 #include "micromacro/engine/relaxed_probe.hpp"
