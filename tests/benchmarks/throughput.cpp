@@ -12,7 +12,9 @@
 // particle keeps its 4 (2D) or 6 (3D) contacts and the packing stays static: the cost of a
 // dense packing at rest. (A 1% overlap, tried first, makes the square lattice buckle: the
 // first thousands of steps then time a collapsing, hot packing.) With --shear the particles get
-// a velocity profile of 1/s (slowly sheared). --precision float stores the particle state in
+// a velocity profile of 1/s (slowly sheared); with --cell-shear RATE the periodic cell itself is
+// sheared at RATE (Lees-Edwards images, the particles moving with it: the cost of an element
+// test's simple shear against the still box). --precision float stores the particle state in
 // float (arithmetic stays double; the coarse positions are accepted for the timing);
 // --threads splits the pair loop and the particle passes (OpenMP).
 //
@@ -54,6 +56,7 @@ struct Options {
     std::string law = "frictional";
     std::size_t steps = 1000;
     bool shear = false, json = false;
+    double cell_shear = 0.0;
     std::string packing, periodic;
     mm::io::PackingFormat format = mm::io::PackingFormat::csv;  // of the packing file, from its first line
     std::vector<double> box;
@@ -122,6 +125,13 @@ int run(const Options& o, const Law& law, const char* law_name) {
         const double rate = 1.0;  // 1/s: slow against 1/t_c ~ 5e4/s
         for (std::size_t i = 0; i < sim.particles().size(); ++i) sim.particles().velocity()[i][0] = rate * (sim.particles().position()[i][dim - 1] - domain.lo()[dim - 1]);
     }
+    if (o.cell_shear != 0.0) {  // Lees-Edwards: the cell sheared, x moving with the last axis, the particles with it
+        Eigen::Matrix<double, dim, dim> L = Eigen::Matrix<double, dim, dim>::Zero();
+        L(0, dim - 1) = o.cell_shear;
+        sim.set_velocity_gradient(L);
+        for (std::size_t i = 0; i < sim.particles().size(); ++i)
+            sim.particles().velocity()[i] = mm::convert<Real>(mm::Vec<dim>(L * (mm::convert<double>(sim.particles().position()[i]) - sim.domain().centre())));
+    }
     if (o.sort) sim.sort_spatially();
     sim.set_auto_sort(o.auto_sort);
     sim.set_time_step(dt);
@@ -140,7 +150,7 @@ int run(const Options& o, const Law& law, const char* law_name) {
     const double ns_contact = contacts ? 1e9 * seconds / (double(o.steps) * contacts) : 0.0;
     const double bytes = peak_rss_bytes() / n;  // whole process: includes its fixed baseline
     const double storage = static_cast<double>(sim.storage_bytes()) / n;
-    const char* name = o.packing.empty() ? (o.shear ? "shear" : "static") : "file";
+    const char* name = o.packing.empty() ? (o.cell_shear != 0.0 ? "sheared-cell" : o.shear ? "shear" : "static") : "file";
     // The configuration: everything that sets the work of a step.
     std::string periodic;
     for (int a = 0; a < dim; ++a)
@@ -155,11 +165,11 @@ int run(const Options& o, const Law& law, const char* law_name) {
                     "\"bytes_per_particle\": %.1f, \"storage_bytes_per_particle\": %.1f, \"threads\": %d, "
                     "\"precision\": \"%s\", \"law\": \"%s\", \"packing\": %s, \"order\": \"%s\", \"periodic\": \"%s\", "
                     "\"k\": %.6g, \"gamma_n\": %.6g, \"kt\": %.6g, \"gamma_t\": %.6g, \"mu\": %.6g, \"density\": %.6g, "
-                    "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s, \"fma\": %s}\n",
+                    "\"contact_duration\": %.6g, \"dt\": %.6g, \"skin\": %.6g, \"energy_books\": %s, \"shear\": %s, \"cell_shear\": %.6g, \"fma\": %s}\n",
                     name, law_name, dim, sim.particles().size(), contacts, o.steps, seconds, pps, ns_contact, bytes, storage, o.threads,
                     o.precision.c_str(), law_name, json_string(o.packing.empty() ? "lattice" : o.packing).c_str(), order.c_str(), periodic.c_str(), o.k,
                     o.gamma_n, friction ? o.kt : 0.0, friction ? o.gamma_t : 0.0, friction ? o.mu : 0.0, o.density, tc, dt,
-                    sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false", fused_multiply_add ? "true" : "false");
+                    sim.skin(), o.track_energy ? "true" : "false", o.shear ? "true" : "false", o.cell_shear, fused_multiply_add ? "true" : "false");
     else {
         std::printf("%s %s %dD: %zu particles, %zu contacts (coordination %.2f), %zu steps in %.3f s: %.3g particle-steps/s, "
                     "%.1f ns per contact, peak memory %.0f bytes per particle (engine arrays %.0f) (%d threads, %s)\n",
@@ -168,8 +178,10 @@ int run(const Options& o, const Law& law, const char* law_name) {
         std::printf("  packing %s (order %s, periodic axes '%s'); k %.6g N/m, gamma_n %.6g kg/s", o.packing.empty() ? "lattice" : o.packing.c_str(),
                     order.c_str(), periodic.c_str(), o.k, o.gamma_n);
         if (friction) std::printf(", k_t %.6g N/m, gamma_t %.6g kg/s, mu %.6g", o.kt, o.gamma_t, o.mu);
-        std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s; fused multiply-adds %s\n",
+        std::printf("; density %.6g kg/m^3, t_c %.6g s, dt %.6g s (t_c/%.4g), skin %.6g m; energy books %s; fused multiply-adds %s",
                     o.density, tc, dt, tc / dt, sim.skin(), o.track_energy ? "on" : "off", fused_multiply_add ? "on" : "off");
+        if (o.cell_shear != 0.0) std::printf("; cell sheared at %.6g /s", o.cell_shear);
+        std::printf("\n");
     }
     if (!standard_output_complete())
         mm::detail::throw_input_error("cannot write the result to standard output (is the disk full?)");
@@ -209,6 +221,10 @@ int main(int argc, char** argv) {
         ->capture_default_str();
     app.add_option("--steps", o.steps, "time steps to time")->check(CLI::Range(std::size_t{1}, std::size_t{1} << 40))->capture_default_str();
     app.add_flag("--shear", o.shear, "start from a slow shear profile (1/s) instead of rest");
+    app.add_option("--cell-shear", o.cell_shear,
+                   "shear the periodic cell at this rate (1/s; x moving with the last axis, Lees-Edwards images), the "
+                   "particles moving with it; 0: a still box")
+        ->capture_default_str()->excludes("--shear");
     auto* packing = app.add_option("--packing", o.packing,
                                    "time this packing instead: CSV as analyze_packing reads it (x,z,r in 2D, x,y,z,r in 3D) "
                                    "or a LAMMPS dump (format from the first line)")

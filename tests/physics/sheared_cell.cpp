@@ -436,4 +436,12 @@ BOOST_AUTO_TEST_CASE(impossible_cell_motions_are_refused) {
     shear(0, 0) = 1.0;
     expect_error([&] { sim.set_velocity_gradient(shear); }, {"velocity gradient", "has walls", "drive the walls"});
     BOOST_TEST(!sim.domain().moving());
+    // A distributed run's engine (a search window over a periodic axis) cannot follow it either.
+    mm::Simulation<2, mm::FrictionlessLinear> rank(mm::FrictionlessLinear{mm::LinearSpringDashpot(k, 0.0)},
+                                                   mm::Domain<2>::fully_periodic(mm::Vec<2>::Zero(), mm::Vec<2>::Constant(1.0)));
+    mm::SearchWindow<2> window;
+    window.unwrap[0] = true;
+    rank.set_search_window(window);
+    expect_error([&] { rank.set_velocity_gradient(shear); }, {"distributed run", "moving cell", "docs/mpi.md"});
+    BOOST_TEST(!rank.domain().moving());
 }

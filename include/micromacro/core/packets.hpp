@@ -86,6 +86,12 @@ MICROMACRO_INLINE Mask nearest_image(Lane& d, Lane half, Lane period, Mask valid
     return greater_equal(size, period) & image;
 }
 
+/// t times the sign of s (+-1), lane by lane: what n t is in Domain's n = +-1 images (exact).
+MICROMACRO_INLINE Lane times_sign_of(Lane t, Lane s) {
+    const Lane sign = _mm512_castsi512_pd(_mm512_set1_epi64(std::numeric_limits<std::int64_t>::min()));
+    return _mm512_xor_pd(t, _mm512_and_pd(s, sign));
+}
+
 namespace detail {
 /// The first three numbers at p, as doubles, in the low three of four (the fourth zero): a
 /// masked load, which reads nothing past the vector's end.

@@ -48,8 +48,9 @@ struct PacketBlock {
     static constexpr std::size_t size = 128, room = size + packets::width;
     alignas(64) double sx[room] = {}, sy[room] = {}, sz[room] = {}, sq[room] = {}, distance[room] = {}, inverse[room] = {};
     alignas(64) double rad_i[room] = {}, rad_j[room] = {};
+    alignas(64) double shift[3][room] = {};  // a moving cell's image shifts x_i - x_j - d (PacketBlock::sx...)
     alignas(64) std::uint32_t at[room] = {}, first[room] = {}, second[room] = {}, apart[room] = {};
-    alignas(64) double out[9][room];
+    alignas(64) double out[10][room];  // force, arm, the books' three terms, the cell's power
 };
 
 /// The force pass over a block's `count` touching contacts, eight at a time: kinematics as
@@ -60,13 +61,13 @@ struct PacketBlock {
 /// first pass's spilled each other (0.96x on the lattice of scripts/vs_lammps.sh).
 template <bool track, int dim, class Real>
 [[gnu::noinline]] void packet_forces(const FrictionalLinear& law, double dt, PacketBlock& block, std::size_t count,
-                                     std::size_t b0, const Domain<dim>& domain, const Vec<dim, Real>* x, const Vec<dim, Real>* v,
+                                     std::size_t b0, const Domain<dim>& domain, const Vec<dim, Real>* v,
                                      const Angular<dim, Real>* w, TangentialSpring<dim>* history) {
     namespace pk = packets;
     using pk::Lane;
     using pk::Mask;
     using Lanes = pk::LanesOf<dim>;
-    auto& [sx, sy, sz, sq, distance, inverse, rad_i, rad_j, at, first, second, apart, out] = block;
+    auto& [sx, sy, sz, sq, distance, inverse, rad_i, rad_j, shift, at, first, second, apart, out] = block;
     for (std::size_t k0 = 0; k0 < count; k0 += pk::width) {
         const int lanes = int(std::min<std::size_t>(pk::width, count - k0));
         // The records' positions in the block by one load, the last contact's in the lanes past
@@ -83,19 +84,19 @@ template <bool track, int dim, class Real>
         const Lane inv = _mm512_load_pd(inverse + k0);
         pk::Kinematics<dim> c;
         Lanes dv = pk::load(v, is) - pk::load(v, js);
-        if (domain.moving()) [[unlikely]] {  // j's image moves with the cell: pair_velocity_difference in lanes
-            const Lanes shift = pk::load(x, is) - pk::load(x, js);
+        const bool moving = domain.moving();
+        Lanes image_velocity{};
+        if (moving) [[unlikely]] {  // j's image moves with the cell: pair_velocity_difference in lanes
             Lane d[dim], image[dim];
-            d[0] = shift.x - _mm512_load_pd(sx + k0);
-            d[1] = shift.y - _mm512_load_pd(sy + k0);
-            if constexpr (dim == 3) d[2] = shift.z - _mm512_load_pd(sz + k0);
+            for (int a = 0; a < dim; ++a) d[a] = _mm512_load_pd(shift[a] + k0);
             const auto& L = domain.velocity_gradient();
             for (int a = 0; a < dim; ++a) {
                 image[a] = pk::broadcast(L(a, 0)) * d[0];
                 for (int b = 1; b < dim; ++b) image[a] = image[a] + pk::broadcast(L(a, b)) * d[b];
             }
-            if constexpr (dim == 2) dv = dv - pk::Lanes2{image[0], image[1]};
-            else dv = dv - pk::Lanes3{image[0], image[1], image[2]};
+            if constexpr (dim == 2) image_velocity = pk::Lanes2{image[0], image[1]};
+            else image_velocity = pk::Lanes3{image[0], image[1], image[2]};
+            dv = dv - image_velocity;
         }
         // contact_point_velocity (Eq. 25): n x (a_i w_i + a_j w_j)
         if constexpr (dim == 2) {
@@ -128,6 +129,8 @@ template <bool track, int dim, class Real>
             _mm512_store_pd(out[6] + k0, resp.viscous * c.normal_velocity * pk::broadcast(dt));
             _mm512_store_pd(out[7] + k0, resp.dissipated_viscous);
             _mm512_store_pd(out[8] + k0, resp.dissipated_sliding);
+            if (moving) [[unlikely]]  // the cell's power through the contact, as in scalar_pair_loop
+                _mm512_store_pd(out[9] + k0, pk::dot(force, image_velocity));
         }
     }
 }
@@ -149,17 +152,20 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
     const IndexPair* pair = in.pair;
     TangentialSpring<dim>* history = in.history;
     PacketBlock block_arrays;
-    auto& [sx, sy, sz, sq, distance, inverse, rad_i, rad_j, at, first, second, apart, out] = block_arrays;
+    auto& [sx, sy, sz, sq, distance, inverse, rad_i, rad_j, shift, at, first, second, apart, out] = block_arrays;
     constexpr std::size_t block = PacketBlock::size;
     const Lane one = pk::broadcast(1.0);
-    Lane period[dim], half[dim];
+    Lane period[dim], half[dim], tilt[dim][dim];
+    const bool tilted = domain.tilted();
     for (int a = 0; a < dim; ++a) {
         const double length = domain.hi()[a] - domain.lo()[a];
-        period[a] = pk::broadcast(domain.tilted() ? 0.5 * length : length);  // tilted: every image lane to Domain (see PacketLayout)
+        period[a] = pk::broadcast(length);
         half[a] = pk::broadcast(domain.periodic(a) ? 0.5 * length : std::numeric_limits<double>::infinity());
+        for (int i = 0; i < a; ++i) tilt[i][a] = pk::broadcast(domain.tilt(i, a));
     }
     const __m256i lane = _mm256_set_epi32(7, 6, 5, 4, 3, 2, 1, 0);
     EnergyBooks account = books;
+    const bool moving = domain.moving();
     for (std::size_t b0 = begin; b0 < end; b0 += block) {
         const std::size_t b1 = std::min(end, b0 + block);
         std::size_t count = 0, open = 0;
@@ -174,13 +180,25 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             const IndexPair* here = pair + p0;  // lanes past the block's end read the packet's first pair
             const auto xi = pk::load_by(x, [&](int l) { return here[l < lanes ? l : 0].i; });
             const auto xj = pk::load_by(x, [&](int l) { return here[l < lanes ? l : 0].j; });
-            Lane d[dim];
+            Lane d[dim], raw[dim];
             d[0] = xi.x - xj.x;
             d[1] = xi.y - xj.y;
             if constexpr (dim == 3) d[2] = xi.z - xj.z;
+            for (int a = 0; a < dim; ++a) raw[a] = d[a];
             if constexpr (periodic) {
+                // Domain::separation in lanes, from the last axis down: in a sheared cell an image
+                // across axis a moves the lower axes by its tilts, n t with n = +-1 the image's side.
                 Mask far = 0;
-                for (int a = 0; a < dim; ++a) far |= pk::nearest_image(d[a], half[a], period[a], valid);
+                for (int a = dim - 1; a >= 0; --a) {
+                    const Lane before = d[a];
+                    far |= pk::nearest_image(d[a], half[a], period[a], valid);
+                    if (tilted && a > 0) [[unlikely]] {
+                        const Mask image = pk::greater_equal(_mm512_abs_pd(before), half[a]) & valid;
+                        if (image)
+                            for (int i = 0; i < a; ++i)
+                                d[i] = _mm512_mask_sub_pd(d[i], image, d[i], pk::times_sign_of(tilt[i][a], before));
+                    }
+                }
                 if (far) [[unlikely]] {  // a period or more apart: Domain::separation itself, lane by lane
                     alignas(64) double e[dim][8] = {};
                     for (int l = 0; l < lanes; ++l) {
@@ -201,6 +219,8 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             _mm512_storeu_pd(sq + count, _mm512_maskz_compress_pd(touches, dist_sq));
             _mm512_storeu_pd(rad_i + count, _mm512_maskz_compress_pd(touches, ri));
             _mm512_storeu_pd(rad_j + count, _mm512_maskz_compress_pd(touches, rj));
+            if (moving) [[unlikely]]  // the image shifts, for the image velocities of packet_forces
+                for (int a = 0; a < dim; ++a) _mm512_storeu_pd(shift[a] + count, _mm512_maskz_compress_pd(touches, raw[a] - d[a]));
             _mm256_storeu_si256(reinterpret_cast<__m256i*>(at + count), _mm256_maskz_compress_epi32(touches, position));
             _mm256_storeu_si256(reinterpret_cast<__m256i*>(first + count), _mm256_maskz_compress_epi32(touches, is));
             _mm256_storeu_si256(reinterpret_cast<__m256i*>(second + count), _mm256_maskz_compress_epi32(touches, js));
@@ -221,7 +241,7 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             _mm512_store_pd(distance + k, root);
             _mm512_store_pd(inverse + k, one / root);
         }
-        packet_forces<track, dim>(law, dt, block_arrays, count, b0, domain, x, v, w, history);
+        packet_forces<track, dim>(law, dt, block_arrays, count, b0, domain, v, w, history);
         // The sums, in the list's order (engine/pair_force_sums.hpp and respond()'s books): i's
         // sums held while its run of partners lasts (the list takes each i's partners together; j
         // is never i, so no other contact of the run writes i's sums meanwhile).
@@ -258,20 +278,25 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
                 force = Vec<3>(out[0][k], out[1][k], out[2][k]);
                 arm = Vec<3>(out[3][k], out[4][k], out[5][k]);
             }
-            if constexpr (track && periodic)
-                if (domain.moving()) [[unlikely]] {  // the cell's power through the contact, as in scalar_pair_loop
-                    Vec<dim> d;
-                    d[0] = sx[k], d[1] = sy[k];
-                    if constexpr (dim == 3) d[2] = sz[k];
-                    const double weight = weighed && std::max(i, j) >= in.first_ghost ? 0.5 : 1.0;
-                    account.work_by_cell += weight * force.dot(domain.image_velocity(Vec<dim>(convert<double>(x[i]) - convert<double>(x[j]) - d))) * dt;
-                }
             fi += force;
             ti -= Angular<dim>(ri * arm);  // torque on i is (-a_i n) x f_t
             add_partner_force<dim, true>(j, force, arm, double(r[j]), f, torque, owned_end, spill);
         }
         f[current] = fi;
         torque[current] = ti;
+        // The cell's power through each contact (packet_forces), added in the list's order as
+        // scalar_pair_loop adds it; a loop of its own: inside the one above its sum went through
+        // memory for each contact (0.87x in a sheared 2D cell).
+        if constexpr (track && periodic)
+            if (moving) [[unlikely]] {
+                double cell_work = account.work_by_cell;
+                for (std::size_t k = 0; k < count; ++k) {
+                    if (sq[k] == 0.0) [[unlikely]] continue;
+                    const double weight = weighed && std::max(first[k], second[k]) >= in.first_ghost ? 0.5 : 1.0;
+                    cell_work += weight * out[9][k] * dt;
+                }
+                account.work_by_cell = cell_work;
+            }
     }
     books = account;
 }
