@@ -63,6 +63,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(strain_paths_are_followed, D, Dims) {
 
 // A gas compressed by the pressure servo ends jammed at the target pressure, each normal stress
 // at it and the shear stresses near zero, the particles nearly at rest.
+BOOST_TEST_DECORATOR(*boost::unit_test::label("long"))
 BOOST_AUTO_TEST_CASE_TEMPLATE(pressure_servo_jams_a_gas_at_the_target, D, Dims) {
     constexpr int dim = D::value;
     auto sim = gas<dim>(dim == 2 ? 300 : 250, 5);

@@ -393,6 +393,7 @@ Books sheared_books(const Law& law, double steps_per_tc) {
 // where the books have no floor; with friction the same bound as tests/physics/energy.cpp's).
 // The residual is measured against the cell's work (through the contacts across the shearing
 // boundary and the velocities the crossing particles take), which heats the gas.
+BOOST_TEST_DECORATOR(*boost::unit_test::label("long"))
 BOOST_AUTO_TEST_CASE_TEMPLATE(energy_books_of_a_sheared_cell_close, D, Dims) {
     constexpr int dim = D::value;
     const mm::FrictionlessLinear frictionless{mm::LinearSpringDashpot(k, gamma0)};
