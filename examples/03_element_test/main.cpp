@@ -4,8 +4,9 @@
 // Prints the shear strain, stress ratio -sigma_xy / sigma_yy, pressure, volume fraction and
 // coordination as the packing goes from its isotropic state towards steady shearing.
 //
-// Usage: 03_element_test        Exit status 0 when the servo held sigma_yy within 1% of p while
-// shearing, 1 when it did not, for an argument or an error.
+// Usage: 03_element_test [GAIN]   GAIN: the shear stage's servo gain as the stress error, in units of
+// 1/GAIN of p, that asks for the largest rate (default 10). Exit status 0 when the servo held
+// sigma_yy within 1% of p while shearing, 1 when it did not, for a bad argument or an error.
 #include <cmath>
 #include <cstdio>
 #include <random>
@@ -17,12 +18,16 @@ namespace mm = micromacro;
 using V = mm::Vec<2>;
 
 int main(int argc, char** argv) try {
-    if (argc > 1) {
-        const bool help = std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h";
-        if (help) std::printf("03_element_test: a periodic cell of 400 disks compressed to 1 kPa, then sheared at constant sigma_yy\n"
-                              "usage: 03_element_test   (no arguments)\n");
-        else std::fprintf(stderr, "03_element_test: it takes no arguments, '%s' given; see --help\n", argv[1]);
-        return help ? 0 : 1;
+    double gain = 10;
+    if (argc > 1 && (std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h")) {
+        std::printf("03_element_test: a periodic cell of 400 disks compressed to 1 kPa, then sheared at constant sigma_yy\n"
+                    "usage: 03_element_test [GAIN]   (the shear servo's gain: a stress error of p / GAIN asks for the\n"
+                    "largest rate; default 10, at least 1)\n");
+        return 0;
+    }
+    if (argc > 2 || (argc == 2 && !(std::sscanf(argv[1], "%lf", &gain) == 1 && gain >= 1 && std::isfinite(gain)))) {
+        std::fprintf(stderr, "03_element_test: '%s' is not a gain; give one number >= 1 (default 10), see --help\n", argv[argc - 1]);
+        return 1;
     }
     const double rho = 2000, k = 1e5, gamma0 = 0.1, p = 1000;  // kg/m^3, N/m, kg/s, N/m (2D stress)
     // The packing: radii 0.5-1 mm on a jittered square grid, a loose gas at rest.
@@ -56,10 +61,10 @@ int main(int argc, char** argv) try {
     std::printf("isotropic: p = %.1f N/m, volume fraction %.4f, coordination %.2f\n", compress.measure(sim).pressure,
                 compress.measure(sim).volume_fraction, compress.measure(sim).coordination);
 
-    // Stage 2: simple shear at 20 /s to a strain of 0.3, sigma_yy held at p (a 10% error asks for
-    // the largest rate: the proportional servo's lag, rate / gain, is a fraction of a percent), the
-    // length along x fixed.
-    mm::CellControl<2> shear(10 * max_rate / p, max_rate);
+    // Stage 2: simple shear at 20 /s to a strain of 0.3, sigma_yy held at p (by default a 10% error
+    // asks for the largest rate: the proportional servo's lag, rate / gain, is a fraction of a
+    // percent), the length along x fixed.
+    mm::CellControl<2> shear(gain * max_rate / p, max_rate);
     shear.rate(0, 1, 20.0).stress(1, 1, p).hold(0, 0);
     std::printf("%8s %12s %12s %10s %8s\n", "gamma", "-s_xy/s_yy", "p (N/m)", "phi", "Z");
     double worst = 0;
