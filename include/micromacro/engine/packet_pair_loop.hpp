@@ -186,13 +186,15 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
             if constexpr (dim == 3) d[2] = xi.z - xj.z;
             for (int a = 0; a < dim; ++a) raw[a] = d[a];
             if constexpr (periodic) {
-                // Domain::separation in lanes, from the last axis down: in a sheared cell an image
+                // Domain::separation in lanes. In a sheared cell from the last axis down: an image
                 // across axis a moves the lower axes by its tilts, n t with n = +-1 the image's side.
                 Mask far = 0;
-                for (int a = dim - 1; a >= 0; --a) {
-                    const Lane before = d[a];
-                    far |= pk::nearest_image(d[a], half[a], period[a], valid);
-                    if (tilted && a > 0) [[unlikely]] {
+                if (!tilted) [[likely]] {
+                    for (int a = 0; a < dim; ++a) far |= pk::nearest_image(d[a], half[a], period[a], valid);
+                } else {
+                    for (int a = dim - 1; a >= 0; --a) {
+                        const Lane before = d[a];
+                        far |= pk::nearest_image(d[a], half[a], period[a], valid);
                         const Mask image = pk::greater_equal(_mm512_abs_pd(before), half[a]) & valid;
                         if (image)
                             for (int i = 0; i < a; ++i)
