@@ -100,12 +100,6 @@ public:
     /// The average the servos last measured (empty before the first interval with a servo).
     const MicroMacro<dim>& last_measurement() const { return last_; }
 
-    template <class Archive>
-    void serialize(Archive& ar) {
-        ar.value(deformation_);
-        ar.value(time_);
-    }
-
 private:
     enum class Kind { hold, rate, path, stress };
     struct Component {
