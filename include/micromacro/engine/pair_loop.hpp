@@ -39,15 +39,21 @@ struct ContactLoopInput {
     Index first_ghost = std::numeric_limits<Index>::max();
 };
 
-/// v_i - v_j of the pair (i, j) at separation d (Domain::separation): in a moving cell, j's
-/// image across the boundary moves at Domain::image_velocity of its shift, x_i - x_j - d, besides
-/// v_j (zero for a pair that crosses no boundary, where the shift is exactly zero).
+/// The velocity, relative to j, of the image of j that the pair (i, j) at separation d
+/// (Domain::separation) meets: Domain::image_velocity of its shift x_i - x_j - d (zero for a pair
+/// that crosses no boundary, where the shift is exactly zero). For a moving cell only.
+template <int dim, class Real, class History>
+MICROMACRO_INLINE Vec<dim> pair_image_velocity(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain, Index i,
+                                               Index j, const Vec<dim>& d) {
+    return domain.image_velocity(Vec<dim>(convert<double>(in.x[i]) - convert<double>(in.x[j]) - d));
+}
+
+/// v_i - v_j of the pair (i, j) at separation d, j's image moving with a moving cell.
 template <int dim, class Real, class History>
 MICROMACRO_INLINE Vec<dim> pair_velocity_difference(const ContactLoopInput<dim, Real, History>& in, const Domain<dim>& domain,
                                                     Index i, Index j, const Vec<dim>& d) {
     Vec<dim> dv = convert<double>(in.v[i]) - convert<double>(in.v[j]);
-    if (domain.moving()) [[unlikely]]
-        dv -= domain.image_velocity(Vec<dim>(convert<double>(in.x[i]) - convert<double>(in.x[j]) - d));
+    if (domain.moving()) [[unlikely]] dv -= pair_image_velocity(in, domain, i, j, d);
     return dv;
 }
 
@@ -177,8 +183,8 @@ void scalar_pair_loop(const ContactLoopInput<dim, Real, History>& in, const Doma
             V dv = convert<double>(v[i]) - convert<double>(v[j]);
             [[maybe_unused]] V image_velocity = V::Zero();
             if constexpr (periodic)
-                if (domain.moving()) [[unlikely]] {  // j's image moves with the cell (pair_velocity_difference)
-                    image_velocity = domain.image_velocity(V(convert<double>(x[i]) - convert<double>(x[j]) - separation[k]));
+                if (domain.moving()) [[unlikely]] {  // j's image moves with the cell
+                    image_velocity = pair_image_velocity(in, domain, i, j, separation[k]);
                     dv -= image_velocity;
                 }
             kinematics.relative_velocity = contact_point_velocity<rotation>(n, dv, w, i, j, ri, rj);
@@ -198,7 +204,8 @@ void scalar_pair_loop(const ContactLoopInput<dim, Real, History>& in, const Doma
             const ContactResponse<dim> resp = respond<track>(law, kinematics, h, account, false, weight);
             // The cell's power through a contact across its boundary: i feels the force, j's image
             // moves at image_velocity (zero for every other contact).
-            if constexpr (track && periodic) account.work_by_cell += weight * resp.force.dot(image_velocity) * dt;
+            if constexpr (track && periodic)
+                if (domain.moving()) [[unlikely]] account.work_by_cell += weight * resp.force.dot(image_velocity) * dt;
             Angular<dim> arm{};
             if constexpr (rotation) arm = DimTraits<dim>::cross(n, resp.tangential);
             add_pair_force<dim, rotation>(i, j, resp.force, arm, ri, rj, f, torque, owned_end, spill);
