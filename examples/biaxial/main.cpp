@@ -31,7 +31,7 @@
 #include "parameters.hpp"
 #include "processes.hpp"
 #include "quality.hpp"
-#include "run_folder.hpp"
+#include "../run_folder.hpp"
 #include "scene.hpp"
 #ifdef MICROMACRO_HAVE_VTK
 #include <micromacro/io/vtk.hpp>
@@ -49,29 +49,6 @@ using biaxial::config_from_json;
 
 namespace {
 
-std::string now_iso() {
-    const std::time_t t = std::time(nullptr);
-    char buf[32];
-    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
-    return buf;
-}
-
-std::string csv_number(double v) {
-    char buf[32];
-    std::snprintf(buf, sizeof buf, "%.17g", v);
-    return buf;
-}
-
-/// A program of the project next to this one: installed in the same directory, or in the build
-/// tree's viz/ beside examples/. Empty if not found.
-fs::path sibling_program(const std::string& name) {
-    std::error_code ec;
-    const fs::path self = fs::canonical("/proc/self/exe", ec).parent_path();
-    for (const fs::path& candidate : {self / name, self.parent_path() / "viz" / name})
-        if (fs::is_regular_file(candidate, ec)) return candidate;
-    return {};
-}
-
 /// Snapshots (like Fig. 3) of a few VTK frames, all on the colour scale of the whole series, with
 /// the force network (in 3D a slab through the middle of the box, two mean diameters thick, seen
 /// across y, so that the chains inside show), the plots of Fig. 4-5 and, with ffmpeg, a movie of
@@ -79,7 +56,7 @@ fs::path sibling_program(const std::string& name) {
 /// either, the commands that make them later. `pieces` is the particles' and contacts' extension
 /// (.vtp, or .pvtp for the pieces of a run over MPI ranks).
 void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean_radius, const std::string& pieces) {
-    const fs::path render = sibling_program("render_snapshot"), plot = sibling_program("plot_timeseries");
+    const fs::path render = micromacro::cli::sibling_program("render_snapshot"), plot = micromacro::cli::sibling_program("plot_timeseries");
     const std::string xvfb = "xvfb-run -a -s \"-screen 0 1280x1024x24\" ";
     std::vector<std::string> commands;
     char slice[64];
@@ -156,7 +133,7 @@ int run(const Config& c, const Plan& plan) {
     const bool report = writer && !plan.quiet;      // progress: a line kept up to date on a terminal,
     const bool terminal = report && isatty(STDOUT_FILENO);  // else a new line every half minute
     const auto wall_start = std::chrono::steady_clock::now();
-    const std::string started = now_iso();
+    const std::string started = micromacro::cli::now_iso();
     const fs::path& out = plan.out;
     biaxial::Experiment<dim, micromacro::VelocityVerlet, double, Law> exp(c);
     using Sim = std::remove_reference_t<decltype(exp.simulation())>;
@@ -246,7 +223,7 @@ int run(const Config& c, const Plan& plan) {
         biaxial::on_first([&] {
             if (!fs::exists(partial) || fs::file_size(partial) < saved.at("csv_bytes").get<std::uintmax_t>())
                 micromacro::throw_input_error(partial.string(), " is missing or shorter than the checkpoint says; cannot resume");
-            if (const std::string series = biaxial::run_id_of_series(partial); series != plan.run_id)
+            if (const std::string series = micromacro::cli::run_id_of_series(partial); series != plan.run_id)
                 micromacro::throw_input_error(partial.string(), " belongs to run '", series, "', the checkpoint to run '",
                                               plan.run_id, "'; the folder mixes two runs and cannot resume");
             const auto csv_bytes = saved.at("csv_bytes").get<std::uintmax_t>();
@@ -300,7 +277,7 @@ int run(const Config& c, const Plan& plan) {
                 for (std::size_t i = 0; i < r.names.size(); ++i) csv << (i ? "," : "") << r.names[i];
                 csv << "\n";
             }
-            for (std::size_t i = 0; i < r.values.size(); ++i) csv << (i ? "," : "") << csv_number(r.values[i]);
+            for (std::size_t i = 0; i < r.values.size(); ++i) csv << (i ? "," : "") << micromacro::cli::csv_number(r.values[i]);
             csv << "\n";
         }
         if (plan.vtk_every_rows && rows_done % plan.vtk_every_rows == 0) write_vtk();
@@ -381,7 +358,7 @@ int run(const Config& c, const Plan& plan) {
                     {"inner_minus_wall_stress_over_wall_stress_at_rest", q.inner_over_wall_at_rest},
                     {"damping_energy_over_wall_work", q.damping_over_wall_work}};
     j["timing"] = {{"started", started},
-                   {"finished", now_iso()},
+                   {"finished", micromacro::cli::now_iso()},
                    {"resumed", plan.resume},
                    {"from_prepared", plan.from_prepared},
                    {"wall_seconds", seconds},
@@ -447,13 +424,13 @@ int run_scene(const Config& c, const Plan& plan, QuietOthers& others) {
     } catch (const micromacro::InputError& e) {
         if (biaxial::first_process()) {
             std::fprintf(stderr, "biaxial: %s\n", e.what());
-            biaxial::discard_unresumable_series(plan.out);
+            micromacro::cli::discard_unresumable_series(plan.out);
         }
         return 1;
     } catch (const std::exception& e) {
         if (ranks == 1) {
             std::fprintf(stderr, "biaxial: %s\n", e.what());
-            biaxial::discard_unresumable_series(plan.out);
+            micromacro::cli::discard_unresumable_series(plan.out);
             return 1;
         }
         std::fprintf(stderr, "biaxial (rank %d of %d): %s\n", biaxial::process_rank(), ranks, e.what());
@@ -503,7 +480,7 @@ int main(int argc, char** argv) {
     app.add_flag("--quiet", quiet, "no progress line, only the final summary");
     MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv);
 
-    biaxial::FolderLock folder_lock;  // the output folder's, held until the program ends
+    micromacro::cli::FolderLock folder_lock;  // the output folder's, held until the program ends
     try {
         if (out.empty() && resume.empty()) micromacro::throw_input_error("give --out DIR (or --resume DIR)");
         plan.quiet = quiet;
@@ -525,7 +502,7 @@ int main(int argc, char** argv) {
                                                           o->get_name());
             plan.out = resume;
             plan.resume = true;
-            biaxial::on_first([&] { folder_lock.take(plan.out, "--resume"); });
+            biaxial::on_first([&] { folder_lock.take(plan.out, "--resume", "biaxial"); });
             const fs::path checkpoint = plan.out / "checkpoint.state";
             if (!fs::exists(checkpoint))
                 micromacro::throw_input_error(checkpoint.string(), " does not exist; was the run started with "
@@ -566,9 +543,9 @@ int main(int argc, char** argv) {
         micromacro::check_thread_count(plan.threads);  // before the output folder is made
         const auto cost = biaxial::estimate_cost(c, plan.vtk_every_rows, plan.threads);
         biaxial::on_first([&] { biaxial::refuse_unaffordable(c, cost, plan.vtk_every_rows, out); });
-        biaxial::on_first([&] { biaxial::claim_output_folder(out, overwrite, plan.from_prepared, folder_lock); });
+        biaxial::on_first([&] { micromacro::cli::claim_output_folder(out, overwrite, plan.from_prepared, folder_lock, "biaxial"); });
         plan.out = out;
-        plan.run_id = biaxial::as_on_first(biaxial::first_process() ? biaxial::new_run_id() : "");
+        plan.run_id = biaxial::as_on_first(biaxial::first_process() ? micromacro::cli::new_run_id() : "");
         tell_cost(c, cost, plan);
         return run_scene(c, plan, others);
     } catch (const std::exception& e) {

@@ -97,6 +97,16 @@ public:
     const Matrix& deformation() const { return deformation_; }
     /// The time the control has run (s).
     double time() const { return time_; }
+    /// Continues a control saved at an interval's end (a checkpoint): its deformation F and time.
+    /// The components are the caller's to set again (a strain path is a function); the servos
+    /// measure afresh at the next interval's start, as they would have.
+    void resume_at(const Matrix& deformation, double time) {
+        if (!deformation.allFinite() || !std::isfinite(time) || time < 0.0)
+            detail::throw_input_error("CellControl: a saved control with a non-finite deformation or a time of ", time,
+                                      " s cannot be continued");
+        deformation_ = deformation;
+        time_ = time;
+    }
     /// The average the servos last measured (empty before the first interval with a servo).
     const MicroMacro<dim>& last_measurement() const { return last_; }
 

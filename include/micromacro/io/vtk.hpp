@@ -324,6 +324,33 @@ void write_walls(const PackingSnapshot<dim>& s, const std::filesystem::path& pat
     detail::write_polydata(data, path);
 }
 
+/// A periodic cell drawn by its edges: the parallelogram (2D) or parallelepiped (3D) spanned from
+/// lo by the lattice vectors (the columns of Domain::lattice, tilts re-based within half a
+/// period), so that a sheared cell shows its shear. The particles are kept in the box [lo, hi),
+/// which the cell's images tile alike.
+template <int dim>
+void write_cell(const Domain<dim>& cell, const std::filesystem::path& path) {
+    vtkNew<vtkPoints> points;
+    points->SetDataTypeToDouble();
+    for (int corner = 0; corner < (1 << dim); ++corner) {
+        Vec<dim> x = cell.lo();
+        for (int k = 0; k < dim; ++k)
+            if ((corner >> k) & 1) x += cell.lattice().col(k);
+        points->InsertNextPoint(detail::xyz<dim>(x).data());
+    }
+    vtkNew<vtkCellArray> edges;
+    for (int corner = 0; corner < (1 << dim); ++corner)
+        for (int k = 0; k < dim; ++k)
+            if (!((corner >> k) & 1)) {
+                const vtkIdType ends[2] = {corner, corner | (1 << k)};
+                edges->InsertNextCell(2, ends);
+            }
+    vtkNew<vtkPolyData> data;
+    data->SetPoints(points);
+    data->SetLines(edges);
+    detail::write_polydata(data, path);
+}
+
 /// A ParaView collection: add(time, file) for every frame, then write() (atomically).
 class PvdCollection {
 public:

@@ -1,7 +1,7 @@
 #pragma once
-// A biaxial run's folder (--out or --resume): what a run writes there, the lock that keeps a
-// second run out while one runs, the claim of a folder for a new run, and the run id that ties a
-// folder's files to one run.
+// A run's folder (--out or --resume) of the programs that write one (biaxial, element_test):
+// what a run writes there, the lock that keeps a second run out while one runs, the claim of a
+// folder for a new run, and the run id that ties a folder's files to one run.
 #include <fcntl.h>
 #include <sys/file.h>
 #include <unistd.h>
@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdio>
 #include <cstring>
+#include <ctime>
 #include <filesystem>
 #include <fstream>
 #include <random>
@@ -16,14 +17,14 @@
 
 #include <micromacro/core/error.hpp>
 
-namespace biaxial {
+namespace micromacro::cli {
 
 namespace fs = std::filesystem;
 
 /// What a run writes into its folder. A folder that holds any of these holds a run.
 inline constexpr const char* run_entries[] = {"run.json",       "timeseries.csv", "timeseries.csv.partial", "checkpoint.state",
                                               "prepared.state", "vtk",            "plots",                  "snapshots",
-                                              "movie.mp4",      "movie_frames"};
+                                              "movie.mp4",      "movie_frames",   "probes.csv"};
 
 /// The folder's lock, held for the whole run by the process that writes the files: a second run
 /// into the same folder (or a --resume of it) is refused while the first runs. The kernel lets go
@@ -38,8 +39,9 @@ public:
         if (fd_ >= 0) ::close(fd_);
     }
 
-    /// Takes the lock of `folder` (which exists), or refuses with the process that holds it.
-    void take(const fs::path& folder, const std::string& option) {
+    /// Takes the lock of `folder` (which exists), or refuses with the process that holds it
+    /// (a run of `program`, given by `option`).
+    void take(const fs::path& folder, const std::string& option, const std::string& program) {
         const fs::path file = folder / ".lock";
         fd_ = ::open(file.c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
         if (fd_ < 0)
@@ -50,7 +52,7 @@ public:
             std::ifstream(file) >> holder;
             ::close(fd_);
             fd_ = -1;
-            micromacro::throw_input_error(option, " ", folder.string(), " is in use by another biaxial run",
+            micromacro::throw_input_error(option, " ", folder.string(), " is in use by another ", program, " run",
                                           holder.empty() ? "" : " (process " + holder + ")",
                                           "; wait for it to finish, or give another --out");
         }
@@ -75,11 +77,12 @@ inline std::string run_entries_in(const fs::path& out) {
 /// shows the folder writable). A folder that holds an earlier run is refused, so that no result is
 /// overwritten and no two runs mix, unless `overwrite`, which first removes that run's entries (and
 /// nothing else of the folder).
-inline void claim_output_folder(const fs::path& out, bool overwrite, const std::string& from_prepared, FolderLock& lock) {
+inline void claim_output_folder(const fs::path& out, bool overwrite, const std::string& from_prepared, FolderLock& lock,
+                                const std::string& program) {
     std::error_code ec;
     fs::create_directories(out, ec);
     if (ec || !fs::is_directory(out)) micromacro::throw_input_error("--out ", out.string(), " is not a writable directory");
-    lock.take(out, "--out");
+    lock.take(out, "--out", program);
     if (const std::string found = run_entries_in(out); !found.empty()) {
         if (!overwrite)
             micromacro::throw_input_error("--out ", out.string(), " holds an earlier run (", found,
@@ -109,6 +112,21 @@ inline std::string new_run_id() {
     return id;
 }
 
+/// The present time in UTC, as run.json states when a run started and ended.
+inline std::string now_iso() {
+    const std::time_t t = std::time(nullptr);
+    char buf[32];
+    std::strftime(buf, sizeof buf, "%Y-%m-%dT%H:%M:%SZ", std::gmtime(&t));
+    return buf;
+}
+
+/// A number as the time series write it: every digit a double needs to be read back exactly.
+inline std::string csv_number(double v) {
+    char buf[32];
+    std::snprintf(buf, sizeof buf, "%.17g", v);
+    return buf;
+}
+
 /// The run id a time series was started with (its first line), or empty.
 inline std::string run_id_of_series(const fs::path& csv) {
     std::ifstream in(csv);
@@ -118,4 +136,4 @@ inline std::string run_id_of_series(const fs::path& csv) {
     return line.rfind(tag, 0) == 0 ? line.substr(tag.size()) : "";
 }
 
-}  // namespace biaxial
+}  // namespace micromacro::cli
