@@ -5,6 +5,7 @@
 // one time-series row at a time. Every average is over the whole cell, kinetic stress included.
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <random>
 #include <string>
 #include <vector>
@@ -42,7 +43,8 @@ struct Packing {
 };
 
 /// A fresh packing: a gas of non-overlapping particles, radii uniform in [min, max], placed at
-/// random in a cubic cell at the start volume fraction.
+/// random in a cubic cell at the start volume fraction (random sequential addition, largest
+/// first; the particles' order in the packing is no order in space).
 template <int dim>
 Packing<dim> random_gas(const Config& c) {
     using V = mm::Vec<dim>;
@@ -52,6 +54,7 @@ Packing<dim> random_gas(const Config& c) {
     std::uniform_real_distribution<double> U(0.0, 1.0);
     std::vector<double> radii(c.particles);
     for (auto& a : radii) volume += mm::DimTraits<dim>::particle_volume(a = c.radius_min + (c.radius_max - c.radius_min) * U(rng));
+    std::sort(radii.begin(), radii.end(), std::greater<>());  // the largest first: the small ones still find room
     const double L = std::pow(volume / c.start_volume_fraction, 1.0 / dim);
     g.cell = mm::Domain<dim>::fully_periodic(V::Zero(), V::Constant(L));
     // Random sequential placement, each particle checked against those already placed in its

@@ -73,10 +73,13 @@ std::vector<ProbeResult<dim>> run_probes(const Experiment<dim>& exp) {
     const auto symmetric = [](const mm::Tensor2<dim>& s) { return mm::Tensor2<dim>(0.5 * (s + s.transpose())); };
     const auto before = mm::CellControl<dim>::measure(exp.simulation());
     const auto snapshot = mm::take_snapshot(exp.simulation());
-    // Relaxed: the fluctuating kinetic energy below rest_ratio of the elastic energy.
+    // Relaxed: the fluctuating kinetic energy below rest_ratio of the elastic energy, after at
+    // least 20 contact durations (a packing just mapped affinely is still at rest, not relaxed).
     const auto relax = [&](Sim& sim) {
-        std::size_t steps = 0;
-        const std::size_t limit = 20000 * std::llround(c.contact_duration() / sim.time_step());  // 2e4 contact durations
+        const std::size_t contact = std::llround(c.contact_duration() / sim.time_step());
+        std::size_t steps = 20 * contact;
+        sim.run(steps);
+        const std::size_t limit = 20000 * contact;  // 2e4 contact durations
         for (; steps < limit; steps += 100) {
             const auto e = sim.energy();
             if (kinetic_relative_to_flow(sim) < c.rest_ratio * (e.elastic_normal + e.elastic_tangential)) return steps;

@@ -37,6 +37,7 @@ std::map<std::string, Expectation> expectations() {
         {"01_two_particles", {"notanumber"}},
         {"02_custom_contact_law", {"notanumber"}},
         {"03_element_test", {"notanumber"}},
+        {"element_test", {"--quiet --from-prepared " + missing + "/prepared.state --out " + out}},
         {"throughput", {"--packing " + missing + "/packing.csv"}},
         {"random_packing", {"--particles 20 --out " + missing + "/packing.dump"}},  // reads no file: an unwritable output
         {"render_snapshot", {missing + "/particles_0.vtp -o " + (work / "picture.png").string()}},
@@ -116,7 +117,7 @@ BOOST_AUTO_TEST_CASE(a_number_outside_its_rule_is_refused_by_name_value_and_rule
 // option given twice is named with the fix; each message starts with the program's name.
 BOOST_AUTO_TEST_CASE(an_empty_or_repeated_value_is_refused) {
     const std::map<std::string, std::string> option_of = {  // an option of each program that takes one value, and a value
-        {"biaxial", "--mu 0.5"},          {"biaxial_mpi", "--mu 0.5"},       {"analyze_packing", "--k 1e5"},
+        {"biaxial", "--mu 0.5"},          {"biaxial_mpi", "--mu 0.5"},       {"analyze_packing", "--k 1e5"}, {"element_test", "--mu 0.5"},
         {"speed_accuracy", "--seeds 1"},  {"oblique_impacts", "--phases 1"}, {"throughput", "--particles 100"},
         {"random_packing", "--particles 20"}, {"render_snapshot", "--step 0"}, {"plot_timeseries", "--k 1e5"},
     };
