@@ -1,12 +1,13 @@
 // plot_timeseries: the plots of the paper's Fig. 4 and 5 (and stress-strain curves) from a
-// biaxial timeseries.csv, as PNG files, off-screen with VTK's charts.
+// biaxial or element_test timeseries.csv, as PNG files, off-screen with VTK's charts.
 //
 //   xvfb-run -a -s "-screen 0 1280x1024x24" plot_timeseries runs/quick/timeseries.csv --out runs/quick/plots
 //
 // Writes fabric.png (tr F, tr F / g2, nu C against eps_zz: Fig. 4 left), fabric_deviator.png
 // (deviatoric fabric and phi_F: Fig. 4 right), stiffness_normal.png (C^n entries / k: Fig. 5
 // left), stiffness_tangential.png (C^t entries / k_t: Fig. 5 right), stress.png (inner-box and
-// wall stresses) and volumetric.png. Each PNG gets a .json sidecar with the plot area in pixels
+// wall stresses) and volumetric.png; an element_test series gets the whole cell's stress and
+// stress_ratio.png instead, against the strain its preset drives. Each PNG gets a .json sidecar with the plot area in pixels
 // and the axis ranges, so a point of a curve can be found in the image. Needs an X server (VTK
 // from Debian renders only through X): run under xvfb-run on a machine without a display.
 #include <cstdio>
@@ -116,9 +117,9 @@ void plot(const fs::path& path, const std::string& title, const std::string& xla
 int main(int argc, char** argv) {
     std::string input, out = "plots", size = "900x600";
     double k = 1e5, kt_ratio = 0.2;
-    CLI::App app{"Plots like the paper's Fig. 4 and 5 from a biaxial timeseries.csv (PNG, off-screen). Needs an X "
+    CLI::App app{"Plots like the paper's Fig. 4 and 5 from a biaxial or element_test timeseries.csv (PNG, off-screen). Needs an X "
                  "server: run under xvfb-run -a -s \"-screen 0 1280x1024x24\" on a machine without a display."};
-    app.add_option("timeseries", input, "timeseries.csv of a biaxial run")->required();
+    app.add_option("timeseries", input, "timeseries.csv of a biaxial or element_test run")->required();
     app.add_option("--out", out, "directory for the PNG files (created)")->capture_default_str();
     app.add_option("--size", size, "image size WIDTHxHEIGHT")->capture_default_str();
     app.add_option("--k", k, "normal stiffness k (N/m) to scale C^n")->check(micromacro::cli::positive())->capture_default_str();
@@ -149,13 +150,17 @@ int main(int argc, char** argv) {
             std::vector<Series> series;
         };
         std::vector<Chart> charts;
-        const auto eps = get("strain_" + zz);
-        const std::string x = "eps_zz (1)";
+        // An element test's series (element_test: a periodic cell, no walls) is drawn against the
+        // strain its preset drives (loading_strain), a biaxial one against eps_zz.
+        const bool cell = col.count("loading_strain") > 0;
+        const auto eps = get(cell ? "loading_strain" : "strain_" + zz);
+        const std::string x = cell ? "loading strain (1): eps_zz, shear gamma_1z or volumetric, by preset" : "eps_zz (1)";
         std::vector<double> nuC = get("volume_fraction");
         const auto C = get("coordination");
         for (std::size_t i = 0; i < nuC.size(); ++i) nuC[i] *= C[i];
-        charts.push_back({"fabric.png", "Fabric (Fig. 4)", "contact number density (1)",
-                          {{"tr F", get("trF")}, {"tr F / g2", get("trF_over_g2")}, {"nu C", nuC}}});
+        std::vector<Series> fabric{{"tr F", get("trF")}, {"nu C", nuC}};
+        if (!cell) fabric.insert(fabric.begin() + 1, Series{"tr F / g2", get("trF_over_g2")});
+        charts.push_back({"fabric.png", "Fabric (Fig. 4)", "contact number density (1)", fabric});
         std::vector<Series> dev{{"deviatoric fabric", get("deviatoric_fabric")}};
         if (!three) dev.push_back({"phi_F (rad)", get("phi_F")});
         charts.push_back({"fabric_deviator.png", "Fabric anisotropy (Fig. 4)", "deviator (1), angle (rad)", dev});
@@ -169,9 +174,17 @@ int main(int argc, char** argv) {
         charts.push_back({"stiffness_normal.png", "Normal stiffness (Fig. 5 left)", "C^n / k (1)", cn});
         charts.push_back({"stiffness_tangential.png", "Tangential stiffness (Fig. 5 right)", "C^t / k_t (1)", ct});
         const std::string unit = three ? "Pa" : "N/m";
-        charts.push_back({"stress.png", "Stress", "stress (" + unit + ")",
-                          {{"sigma_11 (inner)", get("sigma_11")}, {"sigma_" + zz + " (inner)", get("sigma_" + zz)},
-                           {"sigma_11 (walls)", get("sigma_wall_11")}, {"sigma_" + zz + " (walls)", get("sigma_wall_" + zz)}}});
+        if (cell) {
+            charts.push_back({"stress.png", "Stress (whole cell)", "stress (" + unit + ")",
+                              {{"sigma_11", get("sigma_11")}, {"sigma_" + zz, get("sigma_" + zz)}, {"sigma_1" + z, get("sigma_1" + z)},
+                               {"pressure", get("pressure")}}});
+            charts.push_back({"stress_ratio.png", "Stress ratio", "ratio (1)",
+                              {{"deviatoric stress / p", get("stress_ratio")}, {"-sigma_1" + z + " / sigma_" + zz, get("shear_stress_ratio")}}});
+        } else {
+            charts.push_back({"stress.png", "Stress", "stress (" + unit + ")",
+                              {{"sigma_11 (inner)", get("sigma_11")}, {"sigma_" + zz + " (inner)", get("sigma_" + zz)},
+                               {"sigma_11 (walls)", get("sigma_wall_11")}, {"sigma_" + zz + " (walls)", get("sigma_wall_" + zz)}}});
+        }
         charts.push_back({"volumetric.png", "Volumetric strain", "volumetric strain (1, compaction > 0)",
                           {{"volumetric strain", get("volumetric_strain")}}});
         if (eps.size() < 2) fail(input + " has " + std::to_string(eps.size()) + " rows; a plot needs at least 2");
@@ -182,7 +195,7 @@ int main(int argc, char** argv) {
         fs::create_directories(out, ec);
         if (!fs::is_directory(out)) fail("cannot create the directory " + out);
         for (const auto& c : charts) plot(fs::path(out) / c.file, c.title, x, c.ylabel, eps, c.series, width, height);
-        std::printf("plot_timeseries: 6 plots in %s\n", out.c_str());
+        std::printf("plot_timeseries: %zu plots in %s\n", charts.size(), out.c_str());
         return 0;
     } catch (const std::exception& e) {
         std::fprintf(stderr, "plot_timeseries: %s\n", e.what());
