@@ -45,7 +45,7 @@ struct Config {
     double pressure = 1000.0;         // p: N/m in 2D, Pa in 3D
     double inertial_number = 1e-3;    // of the loading: sets the strain rate
     double strain = 1.0;              // the preset's final strain
-    double target_pressure = 0.0;     // isotropic: 0 = 10 p
+    double target_pressure = 0.0;     // isotropic: 0 = 2 p
     double target_volume_fraction = 0.0;  // isotropic: stop at this volume fraction instead (0: by pressure)
     double probe_strain = 1e-4;       // size of each probe's strain increment
     double servo_time = 1.0;          // the servo corrects a stress error in this many contact durations
@@ -67,7 +67,7 @@ struct Config {
     /// The strain rate of inertial number I at the pressure `at`: I = rate d sqrt(rho / p), d the mean diameter.
     double rate_of(double I, double at) const { return I / (2.0 * mean_radius() * std::sqrt(inertial_density() / at)); }
     double rate() const { return rate_of(inertial_number, pressure); }
-    double target_p() const { return target_pressure > 0 ? target_pressure : 10.0 * pressure; }
+    double target_p() const { return target_pressure > 0 ? target_pressure : 2.0 * pressure; }
     /// The contact stiffness in stress units: k in 2D (N/m), k / d in 3D (Pa), d the mean diameter.
     double stress_stiffness() const { return dim == 2 ? k : k / (2.0 * mean_radius()); }
     /// The servo's gain in 1/(Pa s) (1/((N/m) s) in 2D): a stress error of the contact stiffness
@@ -83,7 +83,7 @@ inline void apply_preset(Config& c, const std::string& preset) {
     c.preset = preset;
     c.particles = c.dim == 2 ? 400 : 1000;
     c.pressure = c.dim == 2 ? 1000.0 : 5e5;  // p / k = 1e-2 in 2D, p d / k = 1e-2 in 3D
-    c.strain = preset == "oedometric" ? 0.02 : preset == "triaxial" ? 0.2 : 1.0;
+    c.strain = preset == "oedometric" ? 0.02 : preset == "triaxial" ? 0.2 : preset == "isotropic" ? 0.05 : 1.0;
 }
 
 struct Parameter {
@@ -118,9 +118,10 @@ inline const std::vector<Parameter>& parameter_table() {
          "(default 1e-3)",
          &C::inertial_number},
         {"--strain", "strain",
-         "the preset's final strain: axial for oedometric and triaxial, shear for shear-p and shear-v (default 0.02, 0.2, 1)",
+         "the preset's final strain: axial for oedometric and triaxial, shear for shear-p and shear-v (default 0.02, 0.2, 1); "
+         "isotropic: the largest volumetric strain before the target, refused beyond (default 0.05)",
          &C::strain},
-        {"--target-pressure", "target_pressure", "isotropic: the pressure to compress to (default 10 p)", &C::target_pressure},
+        {"--target-pressure", "target_pressure", "isotropic: the pressure to compress to (default 2 p)", &C::target_pressure},
         {"--target-volume-fraction", "target_volume_fraction",
          "isotropic: compress to this volume fraction instead of a pressure (default 0: by pressure)", &C::target_volume_fraction},
         {"--probe-strain", "probe_strain", "probes: the size of each strain increment (default 1e-4)", &C::probe_strain},
@@ -197,7 +198,7 @@ inline void validate(const Config& c) {
     if (c.target_volume_fraction != 0 && !(c.target_volume_fraction > 0 && c.target_volume_fraction < 1))
         throw_input_error("--target-volume-fraction ", c.target_volume_fraction, " must lie in (0, 1), or 0 to compress by pressure");
     if (c.target_pressure != 0 && !(c.target_pressure > c.pressure))
-        throw_input_error("--target-pressure ", c.target_pressure, " must exceed --pressure ", c.pressure, " (or be 0: 10 p)");
+        throw_input_error("--target-pressure ", c.target_pressure, " must exceed --pressure ", c.pressure, " (or be 0: 2 p)");
     if (!(c.rows >= 1 && c.rows <= 1e6 && c.rows == std::floor(c.rows)))
         throw_input_error("--rows ", c.rows, " must be a whole number from 1 to 1e6");
     c.contact_duration();  // throws for an overdamped contact

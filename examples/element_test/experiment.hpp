@@ -257,6 +257,12 @@ public:
         if constexpr (dim == 2) r.add("phi_F", m.fabric_angle);
         r.add("coordination", m.coordination);
         r.add("rattlers", double(m.rattlers));
+        {  // Z without the rattlers (fewer than dim + 1 contacts, removed repeatedly), as jamming studies count it
+            const auto snapshot = mm::take_snapshot(sim_);
+            mm::AveragingOptions without;
+            without.exclude_rattlers = true;
+            r.add("coordination_without_rattlers", mm::average(snapshot, mm::Region<dim>::whole(snapshot), without).coordination);
+        }
         r.add("volume_fraction", m.volume_fraction);
         for (int a = 0; a < dim; ++a)
             for (int b = a; b < dim; ++b)
