@@ -83,15 +83,15 @@ void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean
         commands.push_back(plot.string() + " " + (out / "timeseries.csv").string() + " --out " + (out / "plots").string());
     char slice[64];
     std::snprintf(slice, sizeof slice, " --3d --slice y mid %.6g", 4.0 * mean_radius);
-    if (!render.empty())
-        for (const std::size_t f : {std::size_t{0}, frames - 1}) {
-            if (frames == 0 || (f == 0 && frames == 1 && !commands.empty() && commands.back().find("snapshot_0") != std::string::npos)) break;
-            const std::string k = std::to_string(f);
-            commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --range-from " +
-                               (out / "vtk" / "particles.pvd").string() + " --contacts " + (out / "vtk" / ("contacts_" + k + ".vtp")).string() +
-                               (dim == 3 ? slice : "") + " -o " + (out / "snapshots" / ("snapshot_" + k + ".png")).string());
-            if (frames == 1) break;
-        }
+    std::vector<std::size_t> picked;  // the first frame and the last, on the series' colour scale
+    if (frames > 0) picked.push_back(0);
+    if (frames > 1) picked.push_back(frames - 1);
+    for (const std::size_t f : render.empty() ? std::vector<std::size_t>{} : picked) {
+        const std::string k = std::to_string(f);
+        commands.push_back(render.string() + " " + (out / "vtk" / ("particles_" + k + ".vtp")).string() + " --range-from " +
+                           (out / "vtk" / "particles.pvd").string() + " --contacts " + (out / "vtk" / ("contacts_" + k + ".vtp")).string() +
+                           (dim == 3 ? slice : "") + " -o " + (out / "snapshots" / ("snapshot_" + k + ".png")).string());
+    }
     if (commands.empty()) return;
     const char* display = std::getenv("DISPLAY");
     const bool has_display = display && *display;

@@ -72,6 +72,32 @@ BOOST_AUTO_TEST_CASE(simple_shear_at_constant_pressure_2d) {
     const auto j = nlohmann::json::parse(mmtest::slurp(dir / "run.json"));
     BOOST_TEST(j.at("program") == "element_test");
     BOOST_TEST(j.at("parameters").at("preset") == "shear-p");
+#ifdef ELEMENT_TEST_WITH_VTK
+    for (const char* file : {"particles.pvd", "contacts.pvd", "cell.pvd", "cell_0.vtp"}) BOOST_TEST(fs::exists(dir / "vtk" / file), file);
+#endif
+}
+
+// --help names every preset and says what it does.
+BOOST_AUTO_TEST_CASE(help_lists_every_preset) {
+    const auto help = mmtest::run_program(ELEMENT_TEST, "--help", work);
+    BOOST_TEST(help.exit_code() == 0);
+    for (const char* preset : {"isotropic:", "oedometric:", "triaxial:", "shear-p:", "shear-v:", "probes:"})
+        BOOST_TEST(help.out.find(preset) != std::string::npos, preset);
+    for (const char* option : {"--inertial-number", "--pressure", "--strain", "--from-prepared", "--packing", "--resume"})
+        BOOST_TEST(help.out.find(option) != std::string::npos, option);
+}
+
+// With VTK and Xvfb, a run ends with its plots and snapshots.
+BOOST_AUTO_TEST_CASE(a_run_makes_its_pictures) {
+#ifdef ELEMENT_TEST_WITH_VTK
+    if (!mmtest::installed("xvfb-run")) return;
+    const auto dir = work / "pictures";
+    const auto r = mmtest::run_program(ELEMENT_TEST, "--quiet --preset shear-v --from-prepared " + prepared_2d().string() +
+                                                         " --strain 0.02 --rows 4 --out " + dir.string(), work);
+    BOOST_TEST_REQUIRE(r.exit_code() == 0, r.err);
+    for (const char* file : {"plots/stress.png", "plots/stress_ratio.png", "plots/fabric.png", "snapshots/snapshot_0.png"})
+        BOOST_TEST(fs::exists(dir / file), file);
+#endif
 }
 
 // Constant volume: every length held, so the volume fraction is the prepared one on every row.
