@@ -21,7 +21,9 @@
 #                                        # (apt-get source, built once into ~/.cache, about 15 minutes)
 #   CASES=$'random3d_50000 3 1\nlattice2d_80000 2 2 ranks' scripts/vs_lammps.sh   # other cases, one per line:
 #                                        # random2d_N, random3d_N, lattice2d_N or lattice3d_N, dim, threads,
-#                                        # and "ranks" for MPI ranks instead of threads
+#                                        # and "ranks" for MPI ranks instead of threads, or "sheared" for the
+#                                        # box sheared at 1 /s (Lees-Edwards: micromacro's moving cell,
+#                                        # throughput --cell-shear; LAMMPS's fix deform with remap v)
 # Installs Debian's lammps if it is missing. Needs a build (scripts/setup.sh test).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -106,7 +108,7 @@ total_mass() {
 # micromacro DUMP DIM THREADS STEPS -> its JSON line
 micromacro() {
   "$tp" --packing "$1" --dim "$2" --threads "$3" --steps "$4" --k $k --kt $kt --mu $mu --gamma-n 0 --gamma-t 0 \
-    --density $density --no-energy --json
+    --density $density --no-energy --cell-shear "${shear:-0}" --json
 }
 # micromacro_ranks DUMP DIM RANKS STEPS -> its JSON line (throughput_mpi: the same law, t_c, skin)
 micromacro_ranks() {
@@ -118,7 +120,7 @@ lammps() {
   local launch=("$1")
   [ "$2" -gt 1 ] && launch=(mpirun -np "$2" "$1")
   "${launch[@]}" -log none -nocite -var dim "$4" -var data "$3" -var density $density -var kn $k -var kt $kt -var mu $mu \
-    -var skin "$6" -var dt "$5" -var steps "$7" -in $deck |
+    -var skin "$6" -var dt "$5" -var steps "$7" -var shear "${shear:-0}" -in $deck |
     awk '/^Loop time of/ { t = $4; s = $9; n = $12 } /^MASS/ { m = $2 } END { printf "%.6g %s\n", s * n / t, m }'
 }
 median() { sort -g | awk '{ v[NR] = $1 } END { printf "%.3g\n", v[int((NR + 1) / 2)] }'; }
@@ -129,6 +131,7 @@ cases=(
   "random2d_1950 2 1" "random2d_20000 2 1" "lattice2d_20000 2 1" "random2d_20000 2 2"
   "random3d_13824 3 1" "lattice3d_13824 3 1" "random3d_13824 3 2"
   "lattice2d_200000 2 2 ranks" "lattice3d_100000 3 2 ranks"
+  "random2d_20000 2 1 sheared" "random3d_13824 3 1 sheared"
 )
 [ -z "${CASES:-}" ] || mapfile -t cases <<<"$CASES"
 help=$(lmp -h 2>/dev/null || true)
@@ -141,7 +144,9 @@ echo "Each program's median particle-steps per second over $rounds rounds, the t
 echo "round, and the median of the rounds' ratios (micromacro / LAMMPS). The same law (k = 1e5 N/m, k_t = 2e4 N/m,"
 echo "mu = 0.5, no dashpots), time step (t_c/50 of two mean particles), skin (a fifth of the mean radius) and steps;"
 echo "micromacro without its energy books (\`--no-energy\`), as LAMMPS keeps none. Two threads: micromacro's"
-echo "threads against two MPI ranks of LAMMPS; two ranks: two MPI ranks of each (micromacro's \`throughput_mpi\`)."
+echo "threads against two MPI ranks of LAMMPS; two ranks: two MPI ranks of each (micromacro's \`throughput_mpi\`);"
+echo "sheared: the periodic box sheared at 1 /s by Lees-Edwards images, the particles starting with the flow"
+echo "(micromacro's moving cell, \`throughput --cell-shear 1\`; LAMMPS's triclinic box under \`fix deform ... remap v\`)."
 echo
 header="| packing | particles | contacts per particle | threads | micromacro | LAMMPS (Debian) | ratio |"
 rule="|---|---|---|---|---|---|---|"
@@ -150,6 +155,8 @@ echo "$header"
 echo "$rule"
 for c in "${cases[@]}"; do
   read -r name dim threads over <<<"$c"
+  shear=0
+  [ "$over" != sheared ] || shear=1
   if [ "$over" = ranks ] && [ ! -x "$tpm" ]; then
     echo "| ${name%%_*} | ${name#*_} | | $threads ranks | (no $tpm: a build without MPI) | | |${native:+ | |}"
     continue

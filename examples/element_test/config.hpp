@@ -68,12 +68,11 @@ struct Config {
     double rate_of(double I, double at) const { return I / (2.0 * mean_radius() * std::sqrt(inertial_density() / at)); }
     double rate() const { return rate_of(inertial_number, pressure); }
     double target_p() const { return target_pressure > 0 ? target_pressure : 2.0 * pressure; }
-    /// The contact stiffness in stress units: k in 2D (N/m), k / d in 3D (Pa), d the mean diameter.
-    double stress_stiffness() const { return dim == 2 ? k : k / (2.0 * mean_radius()); }
-    /// The servo's gain in 1/(Pa s) (1/((N/m) s) in 2D): a stress error of the contact stiffness
-    /// asks for a strain rate of one per servo time. Its steady lag, the rate a component needs
-    /// over the gain, is (rate t_c) (k/p) servo_time of p: docs/element-tests.md measures it.
-    double gain() const { return 1.0 / (stress_stiffness() * servo_time * contact_duration()); }
+    /// The servos close a stress error in servo_time contact durations: their gain follows the
+    /// packing's averaged stiffness (CellControl::following_stiffness). The steady lag of a
+    /// component, its rate times that time times its stiffness C, is (rate t_c) (C/p) servo_time
+    /// of p: docs/element-tests.md measures it.
+    double servo_relaxation() const { return servo_time * contact_duration(); }
     /// The largest rate a servo asks for (1/s).
     double max_rate() const { return max_rate_factor * rate(); }
 };
@@ -126,8 +125,8 @@ inline const std::vector<Parameter>& parameter_table() {
          "isotropic: compress to this volume fraction instead of a pressure (default 0: by pressure)", &C::target_volume_fraction},
         {"--probe-strain", "probe_strain", "probes: the size of each strain increment (default 1e-4)", &C::probe_strain},
         {"--servo-time", "servo_time",
-         "the stress servos' gain: a stress error of k (2D) or k / d (3D) asks for a strain rate of 1 per this many contact "
-         "durations (default 1)",
+         "the stress servos close an error in this many contact durations, their gain following the packing's averaged "
+         "stiffness (default 1)",
          &C::servo_time},
         {"--max-rate-factor", "max_rate_factor", "the servo's largest strain rate over the loading's (default 10)",
          &C::max_rate_factor},

@@ -112,7 +112,7 @@ public:
     /// A scene of `packing` (particles at rest, masses from the density); an empty packing for a
     /// scene a saved state will fill.
     Experiment(const Config& c, const Packing<dim>& packing)
-        : c_(c), sim_(law(c.mu_prepare), packing.cell, {}, {}, {}, mm::AffineDamping(0.0, 0.0)), control_(c.gain(), c.max_rate()) {
+        : c_(c), sim_(law(c.mu_prepare), packing.cell, {}, {}, {}, mm::AffineDamping(0.0, 0.0)), control_(mm::CellControl<dim>::following_stiffness(c.servo_relaxation(), c.max_rate())) {
         for (std::size_t i = 0; i < packing.position.size(); ++i)
             sim_.particles().add(packing.position[i], packing.radius[i], mm::sphere_mass(c_.density, packing.radius[i]));
     }
@@ -124,7 +124,8 @@ public:
 
     /// Compresses (or expands) isotropically to p with every shear stress at zero, until the
     /// servo holds p within 1e-3, the shear stresses are below 1e-3 p and the fluctuating kinetic
-    /// energy is below rest_ratio of the elastic energy. `progress` is called every 1000 steps.
+    /// energy is below rest_ratio of the elastic energy. `progress(m)` is called every 1000 steps
+    /// with the cell's average then.
     template <class Progress>
     void prepare(Progress&& progress) {
         sim_.set_time_step(c_.time_step());
@@ -132,17 +133,17 @@ public:
         sim_.sort_spatially();
         sim_.prepare();
         const double max_rate = c_.rate_of(c_.prepare_inertial_number, c_.pressure);
-        mm::CellControl<dim> servo(c_.gain(), max_rate);
+        auto servo = mm::CellControl<dim>::following_stiffness(c_.servo_relaxation(), max_rate);
         servo.pressure(c_.pressure);
         // A gas takes about ln(phi_jammed / phi_start) / max_rate to close; rest within 200 times that.
         const double limit = 200.0 * std::log(1.0 / c_.start_volume_fraction) / max_rate;
-        while (!at_rest(servo.measure(sim_), c_.pressure)) {
+        for (mm::MicroMacro<dim> m = servo.measure(sim_); !at_rest(m, c_.pressure); m = servo.measure(sim_)) {
             if (servo.time() > limit)
                 mm::throw_input_error("the preparation did not come to rest at p = ", c_.pressure, " within ", limit,
                                       " s of simulated time (pressure now ", servo.measure(sim_).pressure,
                                       "); raise --gamma-b or lower --prepare-inertial-number");
             servo.run(sim_, 1000);
-            progress(servo.time());
+            progress(m);
         }
         sim_.set_velocity_gradient(Matrix::Zero());
     }
@@ -152,7 +153,7 @@ public:
         sim_.law() = law(c_.mu);
         sim_.set_time_step(c_.time_step());
         sim_.template body_force<mm::AffineDamping>() = mm::AffineDamping(c_.gamma_b, rotational(c_.gamma_b));
-        control_ = mm::CellControl<dim>(c_.gain(), c_.max_rate());
+        control_ = mm::CellControl<dim>::following_stiffness(c_.servo_relaxation(), c_.max_rate());
         set_drive();
         load_start_ = sim_.time();
         volume0_ = sim_.domain().volume();
@@ -298,7 +299,7 @@ public:
         volume0_ = j.at("volume0");
         relaxing_ = j.at("relaxing");
         reached_pressure_ = j.at("reached_pressure");
-        control_ = mm::CellControl<dim>(c_.gain(), c_.max_rate());
+        control_ = mm::CellControl<dim>::following_stiffness(c_.servo_relaxation(), c_.max_rate());
         set_drive();
         control_.resume_at(Eigen::Map<const Matrix>(f.data()), j.at("control_time").get<double>());
     }

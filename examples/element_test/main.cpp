@@ -159,12 +159,12 @@ int run(const Config& c, const Plan& plan) {
     sim.set_threads(plan.threads);
     double last_print = -1.0;
     std::size_t steps_before = 0;
-    auto progress = [&](const char* phase, double strain) {
+    auto progress = [&](const char* phase, double strain, double pressure) {
         if (!report || elapsed() - last_print < (terminal ? 0.5 : 30.0)) return;
         last_print = elapsed();
         const double rate = double(sim.steps_done() - steps_before) * double(sim.particles().size()) / std::max(elapsed(), 1e-9);
-        std::printf("%s%-9s strain %.4f  t = %.5f s  %.2e particle-steps/s%s", terminal ? "\r" : "", phase, strain, sim.time(), rate,
-                    terminal ? "   " : "\n");
+        std::printf("%s%-9s strain %.4f  p = %.4g  t = %.5f s  %.2e particle-steps/s%s", terminal ? "\r" : "", phase, strain, pressure,
+                    sim.time(), rate, terminal ? "   " : "\n");
         std::fflush(stdout);
     };
 
@@ -223,7 +223,7 @@ int run(const Config& c, const Plan& plan) {
         csv.open(partial, std::ios::app);
     } else {
         if (plan.from_prepared.empty()) {
-            exp.prepare([&](double) { progress("prepare", 0.0); });
+            exp.prepare([&](const mm::MicroMacro<dim>& m) { progress("prepare", 0.0, m.pressure); });
             mm::io::save_state(sim, out / "prepared.state", settings(0, 0), "prepared");
         } else {
             const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(mm::io::load_state(sim, plan.from_prepared, "prepared"));
@@ -252,8 +252,11 @@ int run(const Config& c, const Plan& plan) {
                                     p.affine.cwiseProduct(p.eps).sum() / p.eps.squaredNorm(), predicted / p.eps.squaredNorm());
         }
     } else {
+        double row_pressure = 0.0;  // the latest row's, for the progress line
         auto write_row = [&] {
             const Row r = exp.row();
+            for (std::size_t i = 0; i < r.names.size(); ++i)
+                if (r.names[i] == "pressure") row_pressure = r.values[i];
             if (rows_done == 0) {
                 csv << "# run " << plan.run_id << "\n";
                 csv << "# units: time s, strains 1, rates 1/s, stresses and stiffness " << (dim == 2 ? "N/m" : "Pa")
@@ -272,7 +275,7 @@ int run(const Config& c, const Plan& plan) {
         while (!exp.done()) {
             exp.run(exp.steps_per_row());
             write_row();
-            progress("load", exp.loading_strain());
+            progress("load", exp.loading_strain(), row_pressure);
             if (plan.checkpoint_every > 0 && sim.time() - last_checkpoint >= plan.checkpoint_every - 0.5 * dt) {
                 csv.flush();
                 mm::io::save_state(sim, out / "checkpoint.state", settings(rows_done, fs::file_size(partial)), "checkpoint");

@@ -12,7 +12,11 @@
 // compression positive, so an excess expands the cell (or shears it further in the sense that
 // lowers sigma_ik). Its steady error is the rate the loading asks of the component divided by
 // the gain, which vanishes in the quasi-static limit whatever the gain: docs/element-tests.md
-// measures how little the result depends on it.
+// measures how little the result depends on it. Or the gain follows the packing
+// (following_stiffness): a stress error e asks for e / (C_ikik tau), C = C^n + C^t the averaged
+// stiffness of the same measurement, an upper bound of the packing's incremental modulus, so the
+// servo closes an error in about tau at any pressure and contact stiffness, and a gas (C = 0) is
+// compressed (or expanded) at max_rate, its shape held.
 #include <algorithm>
 #include <cmath>
 #include <cstddef>
@@ -40,6 +44,16 @@ public:
         detail::require_non_negative(gain, "cell servo gain", "use 0 for servos that hold their components still");
         detail::require_positive(max_rate, "cell servo's largest strain rate", "give the fastest rate a servo may drive, in 1/s");
         if (interval == 0) detail::throw_input_error("CellControl: the measuring interval is 0 steps; it must be at least 1");
+    }
+
+    /// A servo whose gain follows the packing's averaged stiffness: it closes a stress error in
+    /// about `time` (s; the interval's length at the least, or it would overshoot), within
+    /// +-max_rate (1/s).
+    static CellControl following_stiffness(double time, double max_rate, std::size_t interval = 10) {
+        detail::require_positive(time, "cell servo's relaxation time", "give the time in which the servo closes a stress error, in s");
+        CellControl c(0.0, max_rate, interval);
+        c.relaxation_time_ = time;
+        return c;
     }
 
     /// L_ik held at `rate` (1/s): a stretch rate for i = k, a shear rate of axis i along k for i < k.
@@ -152,13 +166,20 @@ private:
                 switch (c.kind) {
                     case Kind::hold: break;
                     case Kind::rate: L(i, k) = c.rate; break;
-                    case Kind::stress:
-                        L(i, k) = std::clamp(gain_ * (0.5 * (last_.stress(i, k) + last_.stress(k, i)) - c.target), -max_rate_, max_rate_);
-                        break;
+                    case Kind::stress: L(i, k) = std::clamp(servo_rate(i, k, c.target), -max_rate_, max_rate_); break;
                     case Kind::path: L(i, k) = path_rate(L, i, k, c.path(time_ + span), span); break;
                 }
             }
         return L;
+    }
+
+    // The servo's rate for component (i, k), before the limit.
+    double servo_rate(int i, int k, double target) const {
+        const double error = 0.5 * (last_.stress(i, k) + last_.stress(k, i)) - target;
+        if (relaxation_time_ == 0.0) return gain_ * error;
+        const double C = last_.stiffness_normal(i, k, i, k) + last_.stiffness_tangential(i, k, i, k);
+        if (C > 0.0) return error / (C * relaxation_time_);
+        return i == k && error != 0.0 ? std::copysign(max_rate_, error) : 0.0;  // a gas: closed at the limit, not sheared
     }
 
     // The rate that brings F_ik to `goal` over `span`, the row's other entries given.
@@ -175,7 +196,7 @@ private:
         return ((goal - F(i, k)) / span - others) / F(k, k);
     }
 
-    double gain_, max_rate_;
+    double gain_, max_rate_, relaxation_time_ = 0.0;
     std::size_t interval_;
     Component component_[dim][dim];
     Matrix deformation_ = Matrix::Identity();
