@@ -5,10 +5,14 @@
 // error, which no caller needs).
 #include <CLI/CLI.hpp>
 
+#include <charconv>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <string>
 #include <string_view>
+
+#include <micromacro/core/error.hpp>
 
 #define MICROMACRO_PARSE_COMMAND_LINE(app, argc, argv)                      \
     try {                                                                 \
@@ -90,6 +94,18 @@ inline CLI::Validator between(double lo, double hi) {
     std::ostringstream what;
     what << "a finite number from " << lo << " to " << hi;
     return finite_number(what.str(), [lo, hi](double x) { return x >= lo && x <= hi; });
+}
+
+/// The value of option `o` as a whole number from 0 to T's largest, as typed: "-5" or "1e19" is
+/// refused by name and value, not wrapped or rounded.
+template <class T>
+T whole_number(const CLI::Option& o) {
+    const std::string text = o.as<std::string>();
+    unsigned long long v = 0;
+    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
+    if (error != std::errc() || end != text.data() + text.size() || v > std::numeric_limits<T>::max())
+        throw_input_error(o.get_name(), " '", text, "' is not a whole number from 0 to ", std::numeric_limits<T>::max());
+    return static_cast<T>(v);
 }
 
 }  // namespace micromacro::cli

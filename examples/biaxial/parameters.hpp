@@ -3,9 +3,7 @@
 // key in run.json and in saved states, its help text, and whether it made the packing (then a
 // prepared state supplies it). The command line, run.json and the states are all made from this
 // table.
-#include <charconv>
 #include <cstddef>
-#include <limits>
 #include <string>
 #include <type_traits>
 #include <utility>
@@ -15,6 +13,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include "../command_line.hpp"
 #include "biaxial.hpp"
 
 namespace biaxial {
@@ -159,13 +158,7 @@ inline void apply_options(const std::vector<CLI::Option*>& options, Config& c) {
             [&](auto field) {
                 using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
                 if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, unsigned long long>) {
-                    const std::string text = o->as<std::string>();
-                    unsigned long long v = 0;
-                    const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), v);
-                    if (error != std::errc() || end != text.data() + text.size() || v > std::numeric_limits<T>::max())
-                        micromacro::throw_input_error(o->get_name(), " '", text, "' is not a whole number from 0 to ",
-                                                      std::numeric_limits<T>::max());
-                    c.*field = static_cast<T>(v);
+                    c.*field = micromacro::cli::whole_number<T>(*o);
                 } else if constexpr (std::is_same_v<T, bool>) {
                     c.*field = true;
                 } else {

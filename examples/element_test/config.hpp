@@ -4,11 +4,15 @@
 // table that makes the command line, run.json and the saved states.
 #include <cmath>
 #include <string>
+#include <type_traits>
+#include <utility>
 #include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
+
+#include "../command_line.hpp"
 
 #include <micromacro/micromacro.hpp>
 
@@ -185,9 +189,9 @@ inline void validate(const Config& c) {
     positive(c.max_rate_factor, "--max-rate-factor", "10 is the default");
     positive(c.rest_ratio, "--rest-ratio", "1e-6 is the default");
     positive(c.probe_strain, "--probe-strain", "1e-4 is the default");
-    if (!(c.gamma0 >= 0) || !(c.gamma_b >= 0) || !(c.mu >= 0) || !(c.mu_prepare >= 0) || !(c.kt_ratio >= 0))
-        throw_input_error("--gamma0 ", c.gamma0, ", --gamma-b ", c.gamma_b, ", --mu ", c.mu, ", --mu-prepare ", c.mu_prepare,
-                          " and --kt-ratio ", c.kt_ratio, " must all be >= 0");
+    for (const auto& [v, option] : {std::pair{c.gamma0, "--gamma0"}, {c.gamma_b, "--gamma-b"}, {c.mu, "--mu"},
+                                    {c.mu_prepare, "--mu-prepare"}, {c.kt_ratio, "--kt-ratio"}})
+        if (!(v >= 0) || !std::isfinite(v)) throw_input_error(option, " ", v, " must be a finite number of 0 or more");
     if (!(c.strain > 0 && c.strain < (c.preset == "oedometric" || c.preset == "triaxial" ? 0.9 : 100.0)))
         throw_input_error("--strain ", c.strain, " is out of range; give a strain above 0 (below 0.9 for an axial compression)");
     // Random sequential addition jams near 0.55 (disks) and 0.38 (spheres): the gas stays below.
@@ -210,11 +214,20 @@ inline std::vector<CLI::Option*> add_options(CLI::App& app) {
     return options;
 }
 
+/// The options given, over the preset's defaults in `c`; counts and seeds as whole numbers as typed.
 inline void apply_options(const std::vector<CLI::Option*>& options, Config& c) {
     const auto& table = parameter_table();
     for (std::size_t k = 0; k < table.size(); ++k)
         if (options[k] && options[k]->count())
-            std::visit([&](auto field) { c.*field = options[k]->as<std::remove_cvref_t<decltype(c.*field)>>(); }, table[k].field);
+            std::visit(
+                [&](auto field) {
+                    using T = std::remove_cvref_t<decltype(c.*field)>;
+                    if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, unsigned long long>)
+                        c.*field = micromacro::cli::whole_number<T>(*options[k]);
+                    else
+                        c.*field = options[k]->as<T>();
+                },
+                table[k].field);
 }
 
 /// The options of the table that made the packing and were given (refused with --from-prepared).
