@@ -40,7 +40,7 @@ echo
 echo "| seconds | units | group |"
 echo "|---|---|---|"
 awk '{ g = $2; sub(/.*CMakeFiles\//, "", g); sub(/\.dir\/.*/, "", g)
-       if (g ~ /^test_mpi_/) g = "tests/mpi"; else if (g ~ /^test_physics_/) g = "tests/physics"
-       else if (g ~ /^test_unit_/) g = "tests/unit"; else if (g ~ /^test_(tools|viz|io)_/) g = "tests/tools, viz, io"
+       if (g ~ /^test_mpi/) g = "tests/mpi"; else if (g ~ /^test_physics/) g = "tests/physics"
+       else if (g ~ /^test_unit/) g = "tests/unit"; else if (g ~ /^test_(tools|viz|io)_/) g = "tests/tools, viz, io"
        else if (g == "header_hygiene") g = "header hygiene"; else g = "programs (examples, viz, benchmarks)"
        s[g] += $1; n[g]++ } END { for (g in s) printf "| %.0f | %d | %s |\n", s[g], n[g], g }' "$log" | sort -t'|' -k2 -rn

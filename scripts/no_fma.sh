@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
-# The tests whose assertions contraction can change (the test set "bits", tests/CMakeLists.txt:
-# two code paths, thread counts and rank counts compared to the bit, the benchmark's record of its
-# build), built without fused multiply-adds in build-no-fma: the build that gives the same bits
-# on any CPU (README, "Using the library"). Every other test's answer does not depend on
-# contraction and runs in the default build (scripts/setup.sh test).
+# The tests whose assertions contraction can change and that the sanitizer build (scripts/sanitize.sh,
+# also without fused multiply-adds) does not run: the test set "bits", tests/CMakeLists.txt: the
+# thread counts' long case, rank counts compared to the bit, the biaxial program over ranks, the
+# benchmark's record of its build. Built without fused multiply-adds in build-no-fma: the build
+# that gives the same bits on any CPU (README, "Using the library"). Every test also runs in the
+# default build, with fused multiply-adds (scripts/setup.sh test).
 #   scripts/no_fma.sh
 set -euo pipefail
 cd "$(dirname "$0")/.."

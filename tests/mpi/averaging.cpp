@@ -8,7 +8,6 @@
 // in 3D it takes about a tenth more at the start, in 2D every particle (on a square lattice a
 // particle between two holes is left with two contacts, and so on through the whole box). The
 // same in a box of moving walls, whose contacts count.
-#define BOOST_TEST_MODULE mpi_averaging
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -20,11 +19,10 @@
 #include "support/mpi_lattice.hpp"
 #include "support/mpi_runtime.hpp"
 
+BOOST_AUTO_TEST_SUITE(mpi_averaging)  // the file's cases, run as the CTest test of this file's name
+
 namespace mm = micromacro;
 using mmtest::Dims;
-
-using mmtest::MpiRuntime;
-BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
 template <class M>
@@ -194,3 +192,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(coarse_grained_fields_over_ranks_are_the_serial_fi
                 BOOST_TEST(std::all_of(whole.fabric.begin(), whole.fabric.end(), [](const auto& F) { return F.trace() > 0.0; }));
         }
 }
+
+BOOST_AUTO_TEST_SUITE_END()

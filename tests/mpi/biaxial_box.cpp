@@ -6,7 +6,6 @@
 // rank gives the serial bits, and so do 2-4 without fused multiply-adds. The walls cross every
 // rank: the strain-controlled one moves in, the stress-controlled ones follow the packing. In 2D
 // and 3D.
-#define BOOST_TEST_MODULE mpi_biaxial_box
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -18,11 +17,10 @@
 #include "support/mpi_runtime.hpp"
 #include "support/scenes.hpp"
 
+BOOST_AUTO_TEST_SUITE(mpi_biaxial_box)  // the file's cases, run as the CTest test of this file's name
+
 namespace mm = micromacro;
 using mmtest::Dims;
-
-using mmtest::MpiRuntime;
-BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(the_loading_gives_the_serial_state, D, Dims) {
     constexpr int dim = D::value;
@@ -82,3 +80,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(the_loading_gives_the_serial_state, D, Dims) {
 #endif
     BOOST_TEST(std::abs(serial.walls()[2 * dim - 1].offset - top) > 0.0, "the loading moved the top wall");
 }
+
+BOOST_AUTO_TEST_SUITE_END()

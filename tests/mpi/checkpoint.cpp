@@ -5,7 +5,6 @@
 // run of 100 steps ends, to round-off (the particles handed to new ranks on the way: a 10 um
 // skin). On one rank every copy gives the serial run's bits. In 2D and 3D, in the periodic box and
 // in the box of moving walls, whose walls and wall contacts' springs the checkpoint carries.
-#define BOOST_TEST_MODULE mpi_checkpoint
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -22,11 +21,10 @@
 #include "support/mpi_lattice.hpp"
 #include "support/mpi_runtime.hpp"
 
+BOOST_AUTO_TEST_SUITE(mpi_checkpoint)  // the file's cases, run as the CTest test of this file's name
+
 namespace mm = micromacro;
 using mmtest::Dims;
-
-using mmtest::MpiRuntime;
-BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
 using mmtest::from_distributed;
@@ -147,3 +145,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_keeps_the_serial_sorting, D, Dims) {
 BOOST_AUTO_TEST_CASE_TEMPLATE(a_checkpoint_of_a_box_of_walls_restarts_on_any_rank_count, D, Dims) {
     check_restarts(mmtest::walled_lattice<D::value>(D::value == 2 ? 19 : 7, 10e-6, true), "walls_");
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -10,7 +10,6 @@
 // in the serial order (the serial bits; in rank order, round-off). Where no particle has more
 // than two contacts (the order of a sum of two does not matter) any number of ranks gives the
 // serial bits with threads too, pairs across the periodic boundary between ranks and wraps included.
-#define BOOST_TEST_MODULE mpi_distributed_run
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -28,11 +27,10 @@
 #include "support/mpi_runtime.hpp"
 #include "support/scenes.hpp"
 
+BOOST_AUTO_TEST_SUITE(mpi_distributed_run)  // the file's cases, run as the CTest test of this file's name
+
 namespace mm = micromacro;
 using mmtest::Dims;
-
-using mmtest::MpiRuntime;
-BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
 using mmtest::lattice;
@@ -494,3 +492,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(pairs_across_rank_and_periodic_boundaries_give_the
     serial.for_each_contact([&](const auto&) { ++contacts; });
     BOOST_TEST(contacts == s.size(), "every particle keeps its two contacts");
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -7,7 +7,6 @@
 // serial run's to round-off; and a refresh brings every ghost its owner's new state. In 2D and
 // 3D, with the frictional law (new contacts start their springs from the time they have touched,
 // so the tangential forces are not zero).
-#define BOOST_TEST_MODULE mpi_halo
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -22,11 +21,10 @@
 #include "support/mpi_runtime.hpp"
 #include "support/scenes.hpp"
 
+BOOST_AUTO_TEST_SUITE(mpi_halo)  // the file's cases, run as the CTest test of this file's name
+
 namespace mm = micromacro;
 using mmtest::Dims;
-
-using mmtest::MpiRuntime;
-BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 namespace {
 // The same packing on every rank: n particles, radii 0.5-1.5 mm, placed at random with overlaps at
@@ -213,3 +211,5 @@ BOOST_AUTO_TEST_CASE(the_most_slabs_go_along_the_longest_axis) {
     const mm::mpi::CartesianComm<3> fixed(MPI_COMM_WORLD, mm::Domain<3>::fully_periodic(zero, mm::Vec<3>::Constant(0.01)), {ranks, 1, 1});
     BOOST_TEST((fixed.split().dims == std::array<int, 3>{ranks, 1, 1}));
 }
+
+BOOST_AUTO_TEST_SUITE_END()

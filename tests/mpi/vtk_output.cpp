@@ -5,7 +5,6 @@
 // data; a summary without the .pvtp extension and an unwritable folder are refused on every
 // rank. The contacts (mpi::write_contacts) read back as the serial run's, each once, in a periodic
 // box and in a box of walls. In 2D and 3D.
-#define BOOST_TEST_MODULE mpi_vtk_output
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -28,11 +27,10 @@
 #include "support/mpi_lattice.hpp"
 #include "support/mpi_runtime.hpp"
 
+BOOST_AUTO_TEST_SUITE(mpi_vtk_output)  // the file's cases, run as the CTest test of this file's name
+
 namespace mm = micromacro;
 using mmtest::Dims;
-
-using mmtest::MpiRuntime;
-BOOST_TEST_GLOBAL_FIXTURE(MpiRuntime);
 
 BOOST_AUTO_TEST_CASE_TEMPLATE(pieces_read_back_as_the_whole_scene, D, Dims) {
     constexpr int dim = D::value;
@@ -154,3 +152,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(contact_pieces_read_back_as_the_whole_network, D, 
     check_contacts(mmtest::lattice<D::value>(D::value == 2 ? 18 : 8, 10e-6), "periodic_");
     check_contacts(mmtest::walled_lattice<D::value>(D::value == 2 ? 19 : 7, 10e-6, true), "walls_");
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,7 +1,6 @@
 // The micro-macro averages against exact answers: lattices (fabric, stiffness), the 2D identities
 // between normal and tangential stiffness, and invariance under rotation, renumbering and
 // periodic doubling.
-#define BOOST_TEST_MODULE physics_averaging_exact
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -10,6 +9,8 @@
 #include <random>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_averaging_exact)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -298,3 +299,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(kinetic_stress_and_sliding_contacts, D, Dims) {
                1e-12 * all.stiffness_tangential.matrix().norm());
     BOOST_TEST((all.stiffness_normal.matrix() - elastic.stiffness_normal.matrix()).norm() == 0.0);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

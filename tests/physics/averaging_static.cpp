@@ -1,12 +1,13 @@
 // Averages of relaxed (static) packings: contact stress against wall stress, the affine probe,
 // and invariance under rotation, renumbering and periodic doubling.
-#define BOOST_TEST_MODULE physics_averaging_static
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 #include <numeric>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_averaging_static)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -222,3 +223,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(invariances, D, Dims) {
     BOOST_TEST(close(doubled.stiffness_tangential.matrix(), base.stiffness_tangential.matrix(),
                      base.stiffness_tangential.matrix().norm()));
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,13 +1,14 @@
 // Body forces and the integrators on exactly solvable motions: free fall (both integrators are
 // exact for a constant force, each in its own discrete form), background damping (Eq. 30)
 // against exponential decay, translational and rotational; per-particle potential energy.
-#define BOOST_TEST_MODULE physics_body_forces
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 #include <type_traits>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_body_forces)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -382,3 +383,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(affine_damping_carries_a_particle_with_the_box, D,
     BOOST_TEST(std::abs(carried / u - 1) < 1e-3);  // measured 6e-5
     BOOST_TEST(std::abs(held) < 1e-12);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -2,7 +2,6 @@
 // round-off whatever the other components do, the cell's lattice is the deformation gradient
 // times the starting one, and a stress servo brings a gas to a jammed packing at the target
 // pressure and holds it there; 2D and 3D.
-#define BOOST_TEST_MODULE physics_cell_control
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -12,6 +11,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_cell_control)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -120,3 +121,5 @@ BOOST_AUTO_TEST_CASE(bad_components_are_refused) {
     expect_error([&] { mm::CellControl<2>(1.0, 1.0, 0); }, {"interval is 0 steps"});
     expect_error([&] { mm::CellControl<2>::following_stiffness(0.0, 1.0); }, {"relaxation time", "0"});
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,12 +1,13 @@
 // Coarse-graining kernels (the library's and one defined here): each integrates to one, the grid integral of every field reproduces
 // the box average exactly, and a homogeneous lattice gives a uniform field equal to its box value.
-#define BOOST_TEST_MODULE physics_coarse_graining
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 #include <numbers>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_coarse_graining)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -115,3 +116,5 @@ BOOST_AUTO_TEST_CASE(lattice_fields_are_uniform) {
     BOOST_TEST_MESSAGE("max relative deviation of C_1111 from 3 sqrt(3)/4 k over the grid: " << worst);
     BOOST_TEST(worst < 1e-5);  // what remains is the Gaussian cut at 4 w
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,6 +1,5 @@
 // Binary normal collisions against Eq. 22: contact duration t_c = pi/omega and restitution
 // e = exp(-eta_0 t_c), in 2D and 3D, and the convergence order of both integrators.
-#define BOOST_TEST_MODULE physics_collision
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -8,6 +7,8 @@
 #include <utility>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_collision)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -192,3 +193,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(numbering_does_not_change_a_pair, D, Dims) {
         }
     }
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -3,7 +3,6 @@
 // converging at its order, the second, with and without the tangential spring (its force is taken
 // at the midpoint of its update, Eq. 26-27, so the work it does over a step equals the change of
 // its stored energy; with the spring of the last step the books closed only at first order).
-#define BOOST_TEST_MODULE physics_energy
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -13,6 +12,8 @@
 #include <vector>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_energy)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -167,3 +168,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional, D, Dims) {
 BOOST_AUTO_TEST_CASE_TEMPLATE(damped_books_close_frictional_without_rotation, D, Dims) {
     check_frictional_books<D::value, mm::FrictionalLinearWithoutRotation>("frictional without rotation");
 }
+
+BOOST_AUTO_TEST_SUITE_END()

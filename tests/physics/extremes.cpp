@@ -1,12 +1,13 @@
 // Stability at the extremes: stiffness over eight decades, restitution from 0.999 to 0.01, and
 // degenerate scenes (no particle, one particle, exactly touching, a particle in a wall corner).
-#define BOOST_TEST_MODULE physics_extremes
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_extremes)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -254,3 +255,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(packing_far_from_the_origin, D, Dims) {
     auto too_far = jittered_lattice<dim>(overlap, 1e9);
     expect_error([&] { too_far.prepare(); }, {"from the origin are resolved to", "move the origin into the packing"});
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -2,7 +2,6 @@
 // contact duration in closed form, the restitution asked for at every impact speed, the spin a
 // sliding oblique impact leaves (Coulomb's impulse, closed form), the second-order convergence of
 // a sticking Mindlin spring, and the tangent stiffnesses the averages receive.
-#define BOOST_TEST_MODULE physics_hertz_mindlin
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -13,6 +12,8 @@
 #include "micromacro/engine/collision_probe.hpp"
 #include "micromacro/engine/snapshot.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_hertz_mindlin)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -153,3 +154,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(snapshot_has_each_contacts_stiffness, D, Dims) {
         BOOST_TEST(rel(c.kt, 8.0 * law.effective_shear(c.wall) * std::sqrt(radius * delta)) < 1e-12);
     }
 }
+
+BOOST_AUTO_TEST_SUITE_END()

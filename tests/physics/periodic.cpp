@@ -1,9 +1,10 @@
 // Periodic boundaries: a pair crossing the boundary keeps its contact and tangential spring;
 // a periodic lattice has exactly the contacts of the minimum-image brute-force search.
-#define BOOST_TEST_MODULE physics_periodic
 #include <boost/test/unit_test.hpp>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_periodic)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -87,3 +88,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(periodic_lattice_contacts, D, Dims) {
         BOOST_TEST(worst < 1e-9 * k * 0.02e-3);
     }
 }
+
+BOOST_AUTO_TEST_SUITE_END()

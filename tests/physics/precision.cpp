@@ -3,7 +3,6 @@
 // ulp(|x|) ~ 6e-8 |x|, so the forces agree with the double engine to about that over the
 // overlap (position_resolution() / delta); prepare() refuses such a scene unless the user
 // accepts it, and the particles' state takes half the memory.
-#define BOOST_TEST_MODULE physics_precision
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -14,6 +13,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_precision)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -152,3 +153,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(float_state_round_trip, D, Dims) {
     expect_error([&] { mm::io::load_state(other, file); }, {"holds a different scene", "real=32bit", "real=64bit"});
     std::filesystem::remove(file);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

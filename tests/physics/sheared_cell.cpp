@@ -4,7 +4,6 @@
 // against its closed form; and a moving cell's kinematics (a particle keeps its motion relative
 // to the flow when it wraps, a pair across the shearing boundary sees its partner's image move
 // with the flow, the peculiar momentum is conserved).
-#define BOOST_TEST_MODULE physics_sheared_cell
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -13,6 +12,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_sheared_cell)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -446,3 +447,5 @@ BOOST_AUTO_TEST_CASE(impossible_cell_motions_are_refused) {
     expect_error([&] { rank.set_velocity_gradient(shear); }, {"distributed run", "moving cell", "docs/mpi.md"});
     BOOST_TEST(!rank.domain().moving());
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,5 +1,4 @@
 // The Cundall-Strack tangential spring (Eq. 23-29) against exact answers, in 2D and 3D.
-#define BOOST_TEST_MODULE physics_tangential
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -7,6 +6,8 @@
 #include <random>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_tangential)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -673,3 +674,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(re_preparing_does_not_advance_the_springs, D, Dims
     BOOST_TEST_MESSAGE(dim << "D: largest velocity difference after a re-prepare, relative to v0: " << worst);
     BOOST_TEST(worst < 1e-6);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

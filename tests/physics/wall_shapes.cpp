@@ -3,7 +3,6 @@
 // bowl under gravity swings as a pendulum of length R - a, sliding on a smooth bowl and rolling
 // on a rough one; a bowl moved by a motion carries its particle and its load; a state names the
 // shape, and what the shape cannot do is refused with a message.
-#define BOOST_TEST_MODULE physics_wall_shapes
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -13,6 +12,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_wall_shapes)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -174,3 +175,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(what_a_bowl_cannot_do_is_refused, D, Dims) {
     periodic.set_time_step(bowl_dt());
     expect_error([&] { periodic.prepare(); }, {"spherical-bowl", "periodic", "without periodic axes"});
 }
+
+BOOST_AUTO_TEST_SUITE_END()

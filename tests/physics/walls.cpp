@@ -1,12 +1,13 @@
 // Walls: the strain-controlled motion of Eq. 17, the stress-controlled wall of Eq. 18 against the
 // damped-oscillator solution, and the energy the walls put in.
-#define BOOST_TEST_MODULE physics_walls
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 #include <numbers>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(physics_walls)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -133,3 +134,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(driven_wall_work_is_booked, D, Dims) {
     BOOST_TEST(sim.books().work_by_walls >= e.elastic_normal);
     BOOST_TEST(std::abs(sim.energy_residual()) < 1e-3);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -3,7 +3,6 @@
 // box go to the end slabs; a halo wider than a slab is refused with the numbers and the fix; a
 // rank's search window unwraps a periodic axis of several slabs where its particles span less
 // than a period less a halo width.
-#define BOOST_TEST_MODULE unit_cartesian_split
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -11,6 +10,8 @@
 #include <string>
 
 #include <micromacro/mpi/cartesian_split.hpp>
+
+BOOST_AUTO_TEST_SUITE(unit_cartesian_split)  // the file's cases, run as the CTest test of this file's name
 
 namespace mm = micromacro;
 
@@ -136,3 +137,5 @@ BOOST_AUTO_TEST_CASE(balanced_cuts_give_each_slab_an_equal_share) {
         BOOST_TEST(m.find("0.25 m slabs along axis 0") != std::string::npos, m);
     }
 }
+
+BOOST_AUTO_TEST_SUITE_END()

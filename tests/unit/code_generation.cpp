@@ -3,13 +3,14 @@
 // repeats one value and whose second half is zero as that value broadcast to all 64 bytes: a
 // silent wrong constant anywhere in the library's programs. CMakeLists.txt caps GCC's vectors at
 // 256 bits (-mprefer-vector-width=256), which avoids it; these are the patterns that showed it.
-#define BOOST_TEST_MODULE unit_code_generation
 #include <boost/test/unit_test.hpp>
 
 #include <array>
 #include <vector>
 
 #include <micromacro/micromacro.hpp>  // the intrinsics headers, as every program of the project includes them
+
+BOOST_AUTO_TEST_SUITE(unit_code_generation)  // the file's cases, run as the CTest test of this file's name
 
 namespace {
 template <class T>
@@ -28,3 +29,5 @@ BOOST_AUTO_TEST_CASE(half_broadcast_constants_are_stored_as_written) {
     }
     for (std::size_t k = 0; k < 16; ++k) BOOST_TEST(floats[k] == (k < 8 ? 3.0f : 0.0f), "float " << k);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,6 +1,5 @@
 // Every rejected input raises InputError with a message that names the offending value and the
 // limit; a blow-up that the user allowed is stopped with a SimulationError naming step and particle.
-#define BOOST_TEST_MODULE unit_errors
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -9,6 +8,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_errors)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -241,3 +242,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(nan_mid_run_is_reported, D, Dims) {
     sim.particles().velocity()[1][0] = std::numeric_limits<double>::quiet_NaN();
     expect_error<mm::SimulationError>([&] { sim.run(10); }, {"blew up at step 11", "particle 1", "reduce dt"});
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -3,7 +3,6 @@
 // damaged file must give a clear InputError or a valid result (finite positions, positive finite
 // radii, finite forces), never a crash, another exception or a silent NaN. Run under the
 // sanitizer build (scripts/sanitize.sh), undefined behaviour on the way counts as a crash too.
-#define BOOST_TEST_MODULE unit_fuzz_readers
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
@@ -19,6 +18,8 @@
 #include <micromacro/io/packing_files.hpp>
 
 #include "support/mutate.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_fuzz_readers)  // the file's cases, run as the CTest test of this file's name
 
 namespace mm = micromacro;
 namespace fs = std::filesystem;
@@ -99,3 +100,5 @@ BOOST_AUTO_TEST_CASE(contact_forces) {
     BOOST_TEST_MESSAGE("contact forces: " << refused << " of 3000 damaged files refused");
     BOOST_TEST(refused > 1000);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -2,13 +2,14 @@
 // packings (size ratio 1:10), open and periodic, 2D and 3D; a search window (an MPI rank's slab
 // of a periodic box) finds the periodic search's pairs and the engine the same forces; and
 // results do not depend on the order of the particles.
-#define BOOST_TEST_MODULE unit_neighbors
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
 #include <numeric>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_neighbors)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -131,3 +132,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(results_do_not_depend_on_particle_order, D, Dims) 
     BOOST_TEST(scale > 0.0);
     BOOST_TEST(worst < 1e-9 * scale);
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -6,7 +6,6 @@
 // particles that leave the box in the drift (wrapped), references across the periodic boundary
 // (the minimum image) and one more than a period away, with and without rotation, with and
 // without the previous forces and their closing kick, on one thread and two.
-#define BOOST_TEST_MODULE unit_packet_particle_pass
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -19,6 +18,8 @@
 #include <micromacro/engine/particle_pass.hpp>
 
 #include "support/same_bits.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_packet_particle_pass)  // the file's cases, run as the CTest test of this file's name
 
 namespace mm = micromacro;
 using mm::Vec;
@@ -218,3 +219,5 @@ BOOST_AUTO_TEST_CASE(float_storage_runs_the_scalar_pass) {
     BOOST_TEST(mm::detail::packet_particle_pass_applies<double>);
 #endif
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -7,7 +7,6 @@
 // contacts in tension, candidates that do not touch or stopped touching, pairs across the periodic
 // boundary and one a whole period off, a pair whose centres coincide, blocks' partial last
 // packets, partners of another thread (spills) and ghosts (half weight in the books).
-#define BOOST_TEST_MODULE unit_packets
 #include <boost/mpl/list.hpp>
 #include <boost/test/unit_test.hpp>
 
@@ -22,6 +21,8 @@
 #include <micromacro/neighbors/linked_cells.hpp>
 
 #include "support/same_bits.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_packets)  // the file's cases, run as the CTest test of this file's name
 
 namespace mm = micromacro;
 using mm::Vec;
@@ -311,3 +312,5 @@ BOOST_AUTO_TEST_CASE(without_avx512_the_scalar_loop_runs) {
     BOOST_TEST(!(mm::detail::packet_pair_loop_applies<3, true, mm::FrictionalLinear>));
 }
 #endif
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,7 +1,6 @@
 // Reading a packing file's format, dimension, box and periodic axes (io/packing_files.hpp): the
 // one place the programs that take a packing file (analyze_packing, throughput) settle them; and
 // the LAMMPS dump the writer makes (io/packing_writer.hpp) reads back to the last digit.
-#define BOOST_TEST_MODULE unit_packing_input
 #include <boost/test/unit_test.hpp>
 
 #include <array>
@@ -14,6 +13,8 @@
 #include <micromacro/io/packing_writer.hpp>
 
 #include "support/programs.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_packing_input)  // the file's cases, run as the CTest test of this file's name
 
 namespace fs = std::filesystem;
 namespace mm = micromacro;
@@ -124,3 +125,5 @@ void round_trip() {
 
 BOOST_AUTO_TEST_CASE(a_written_dump_reads_back_to_the_last_digit_2d) { round_trip<2>(); }
 BOOST_AUTO_TEST_CASE(a_written_dump_reads_back_to_the_last_digit_3d) { round_trip<3>(); }
+
+BOOST_AUTO_TEST_SUITE_END()

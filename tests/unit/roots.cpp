@@ -2,7 +2,6 @@
 // std::sqrt and 1 / std::sqrt do (both correctly rounded), at every count: the AVX-512 path's
 // whole packets and the Eigen path agree with the plain arithmetic bit for bit. Built twice
 // (tests/CMakeLists.txt): as the build is, and without AVX-512.
-#define BOOST_TEST_MODULE unit_roots
 #include <boost/test/unit_test.hpp>
 
 #include <array>
@@ -10,6 +9,8 @@
 #include <limits>
 
 #include <micromacro/core/roots.hpp>
+
+BOOST_AUTO_TEST_SUITE(unit_roots)  // the file's cases, run as the CTest test of this file's name
 
 BOOST_AUTO_TEST_CASE(roots_and_reciprocals_are_the_correctly_rounded_ones_at_every_count) {
     std::array<double, 32> square{};
@@ -27,3 +28,5 @@ BOOST_AUTO_TEST_CASE(roots_and_reciprocals_are_the_correctly_rounded_ones_at_eve
         }
     }
 }
+
+BOOST_AUTO_TEST_SUITE_END()

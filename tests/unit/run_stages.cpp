@@ -1,10 +1,11 @@
 // run(n) merges one step's closing kick into the next step's pass over the particles (velocity
 // Verlet) and lets the kick pass clear the force arrays; it must give exactly the bits of n
 // calls of step(), in both precisions, with rotation, walls and neighbour-list rebuilds.
-#define BOOST_TEST_MODULE unit_run_stages
 #include <boost/test/unit_test.hpp>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_run_stages)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -46,3 +47,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(symplectic_euler_run_is_step_by_step, D, Dims) {
     check_run_equals_steps<D::value, double, mm::SymplecticEuler>();
     check_run_equals_steps<D::value, float, mm::SymplecticEuler>();
 }
+
+BOOST_AUTO_TEST_SUITE_END()

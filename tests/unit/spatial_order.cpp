@@ -7,7 +7,6 @@
 // energy agree to round-off instead of to the bit. The engine sorts on its own from 2048
 // particles; a scene assembled elsewhere takes over when the next neighbour search falls
 // (search_state).
-#define BOOST_TEST_MODULE unit_spatial_order
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -22,6 +21,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_spatial_order)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -303,3 +304,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(a_search_state_carries_the_searches, D, Dims) {
     wrong.particles.pop_back();
     mmtest::expect_error([&] { carried.restore_search_state(wrong); }, {"positions of 2999 particles", "3000 particles", "prepare()"});
 }
+
+BOOST_AUTO_TEST_SUITE_END()

@@ -1,7 +1,6 @@
 // Saving and restoring a simulation: a restored run continues bit for bit; foreign, damaged,
 // other-kind and other-dimension files are refused with a message, and a refused file leaves the
 // simulation as it was.
-#define BOOST_TEST_MODULE unit_state
 #include <boost/test/unit_test.hpp>
 
 #include <algorithm>
@@ -14,6 +13,8 @@
 
 #include "support/expect_error.hpp"
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_state)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 namespace fs = std::filesystem;
@@ -265,3 +266,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(sheared_cell_continues_bit_for_bit, D, Dims) {
     BOOST_TEST(restored.books().work_by_cell == original.books().work_by_cell);
     BOOST_TEST(restored.energy_residual() == original.energy_residual());
 }
+
+BOOST_AUTO_TEST_SUITE_END()

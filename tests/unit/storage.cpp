@@ -1,12 +1,13 @@
 // Particle fields by name, storage that follows the scene, and contact history that survives a
 // neighbour-list rebuild.
-#define BOOST_TEST_MODULE unit_storage
 #include <boost/test/unit_test.hpp>
 
 #include <cmath>
 #include <random>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_storage)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -146,3 +147,5 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(domain_minimum_image_and_wrap, D, Dims) {
     box.wrap(c);
     BOOST_TEST((c[0] >= 0.0 && c[0] < 1.0));
 }
+
+BOOST_AUTO_TEST_SUITE_END()

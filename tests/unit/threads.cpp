@@ -1,9 +1,10 @@
 // Threads (OpenMP): a fixed thread count gives the same bits every run, and another count the
 // same trajectory up to round-off. Without OpenMP, set_threads refuses anything but one thread.
-#define BOOST_TEST_MODULE unit_threads
 #include <boost/test/unit_test.hpp>
 
 #include "support/scenes.hpp"
+
+BOOST_AUTO_TEST_SUITE(unit_threads)  // the file's cases, run as the CTest test of this file's name
 
 using namespace mmtest;
 
@@ -106,3 +107,5 @@ BOOST_AUTO_TEST_CASE(small_scenes_run_serially) {
 #endif
     BOOST_TEST(sim.active_threads() == 1);
 }
+
+BOOST_AUTO_TEST_SUITE_END()
