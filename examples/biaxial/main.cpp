@@ -198,6 +198,7 @@ int run(const Config& c, const Plan& plan) {
     };
     auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
         nlohmann::ordered_json j;
+        j["program"] = "biaxial";  // so that element_test's --from-prepared can name it
         j["parameters"] = biaxial::parameters_json(c);
         j["plan"] = plan_json(plan);
         j["bookkeeping"] = exp.bookkeeping();

@@ -73,6 +73,24 @@ void plan_from_json(const nlohmann::ordered_json& j, Plan& p) {
     p.threads = j.at("threads");
 }
 
+/// The parameters a prepared.state of element_test was made with; another program's state (biaxial's
+/// prepared.state, say) is refused by name, since its packing was made for other conditions.
+Config prepared_config(const std::string& path) {
+    const auto saved = nlohmann::ordered_json::parse(mm::io::state_text(path, "prepared"));
+    const std::string program = saved.value("program", "");
+    const auto refuse = [&](const std::string& what) {
+        mm::throw_input_error("--from-prepared ", path, " is ", what, ", not a prepared.state of element_test; start from a packing file "
+                              "with --packing (CSV or LAMMPS dump), or from a prepared.state an element_test run wrote");
+    };
+    if (!program.empty() && program != "element_test") refuse("a state of " + program);
+    try {
+        return config_from_json(saved);
+    } catch (const nlohmann::json::exception&) {
+        refuse("a state of another program (its parameters lack element_test's)");
+    }
+    return {};
+}
+
 /// Plots of the time series and snapshots of the first and last frames, through the X display or
 /// Xvfb; without either, the commands that make them later.
 void make_pictures(const fs::path& out, std::size_t frames, int dim, double mean_radius) {
@@ -191,6 +209,7 @@ int run(const Config& c, const Plan& plan) {
     const fs::path partial = out / "timeseries.csv.partial";
     auto settings = [&](std::size_t rows, std::uintmax_t csv_bytes) {
         nlohmann::ordered_json j;
+        j["program"] = "element_test";  // --from-prepared refuses another program's state by this
         j["parameters"] = parameters_json(c);
         j["plan"] = plan_json(plan);
         j["bookkeeping"] = exp.bookkeeping();
@@ -375,8 +394,7 @@ int main(int argc, char** argv) {
                 if (const auto given = preparation_options_given(options); !given.empty())
                     mm::throw_input_error(given.front(), " made the packing; --from-prepared ", plan.from_prepared,
                                           " supplies it; drop ", given.front());
-                const auto saved = nlohmann::ordered_json::parse(mm::io::state_text(plan.from_prepared, "prepared"));
-                const Config prepared = config_from_json(saved);
+                const Config prepared = prepared_config(plan.from_prepared);
                 if (prepared.dim != c.dim)
                     mm::throw_input_error("--from-prepared ", plan.from_prepared, " holds a ", prepared.dim, "D packing; give --dim ",
                                           prepared.dim);

@@ -37,6 +37,15 @@ const fs::path& prepared_2d() {
     return state;
 }
 
+/// A prepared.state of the biaxial program (80 disks, a short loading), which element_test refuses.
+fs::path biaxial_prepared() {
+    const auto dir = work / "biaxial";
+    const auto r = mmtest::run_program(BIAXIAL, "--preset quick --particles 80 --period 0.02 --relax 0.002 --quiet --no-pictures --out " +
+                                                    dir.string(), work);
+    BOOST_TEST_REQUIRE(r.exit_code() == 0, r.err);
+    return dir / "prepared.state";
+}
+
 std::map<std::string, std::vector<double>> series(const fs::path& dir) { return biaxial::read_timeseries((dir / "timeseries.csv").string()); }
 
 /// The largest |column / value - 1| over the rows after the first.
@@ -214,6 +223,7 @@ BOOST_AUTO_TEST_CASE(bad_input_is_refused_before_anything_is_written) {
         {"--from-prepared " + prepared_2d().string() + " --dim 3", "holds a 2D packing; give --dim 2"},
         {"--packing " + (work / "lattice.csv").string() + " --from-prepared " + prepared_2d().string(), "give one"},
         {"--box 0 1 0 1", "--box is the cell of a --packing file"},
+        {"--from-prepared " + biaxial_prepared().string(), "is a state of biaxial, not a prepared.state of element_test"},
     };
     for (const auto& [args, message] : cases) {
         BOOST_TEST_CONTEXT(args) {
