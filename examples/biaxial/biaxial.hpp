@@ -23,6 +23,7 @@
 
 #include <micromacro/micromacro.hpp>
 
+#include "../timeseries_row.hpp"
 #include "scene.hpp"
 
 namespace biaxial {
@@ -330,15 +331,7 @@ inline void validate(const Config& c) {
     c.contact_duration();  // throws for an overdamped contact
 }
 
-/// One row of the time series: named columns, in order.
-struct Row {
-    std::vector<std::string> names;
-    std::vector<double> values;
-    void add(const std::string& name, double value) {
-        names.push_back(name);
-        values.push_back(value);
-    }
-};
+using micromacro::cli::Row;
 
 /// `Integrator` and the storage precision `Real` are the choices the speed-accuracy table
 /// compares; the biaxial program uses the defaults. A float run accepts its coarse positions.
@@ -555,11 +548,7 @@ public:
         const auto e = scene.energy();
         const auto books = scene.books();
         const auto& walls = scene.walls();
-        auto idx = [](std::initializer_list<int> i) {
-            std::string t;
-            for (int a : i) t += std::to_string(a + 1);
-            return t;
-        };
+        constexpr auto idx = &micromacro::cli::component;
         r.add("time", scene.time() - load_start_);
         double volume = 1.0, volume0 = 1.0;
         for (int k = 0; k < dim; ++k) {
@@ -612,17 +601,7 @@ public:
         if constexpr (dim == 2) r.add("phi_F", m.fabric_angle);
         r.add("coordination", m.coordination);
         r.add("volume_fraction", m.volume_fraction);
-        // Stiffness: C^n has minor and major symmetry, C^t only major symmetry; one column per
-        // independent entry, in units of N/m (2D) or Pa (3D).
-        for (int a = 0; a < dim; ++a)
-            for (int b = a; b < dim; ++b)
-                for (int c = 0; c < dim; ++c)
-                    for (int d = c; d < dim; ++d)
-                        if (a * dim + b <= c * dim + d) r.add("C_n_" + idx({a, b, c, d}), m.stiffness_normal(a, b, c, d));
-        for (int p = 0; p < dim * dim; ++p)
-            for (int q = p; q < dim * dim; ++q)
-                r.add("C_t_" + idx({p / dim, p % dim, q / dim, q % dim}),
-                      m.stiffness_tangential(p / dim, p % dim, q / dim, q % dim));
+        micromacro::cli::add_stiffness_columns(r, m);
         r.add("kinetic_energy", e.kinetic());
         r.add("elastic_energy", e.elastic_normal + e.elastic_tangential);
         r.add("dissipated_energy", books.dissipated());

@@ -475,7 +475,7 @@ int main(int argc, char** argv) {
         ->excludes(out_option)
         ->check(CLI::ExistingDirectory);
     // Options that override the preset: collected first, applied after it.
-    const std::vector<CLI::Option*> given = biaxial::add_options(app);
+    const std::vector<CLI::Option*> given = micromacro::cli::add_options(app, biaxial::parameter_table());
     bool no_pictures = false;
     app.add_flag("--no-pictures", no_pictures, "skip the snapshots and plots at the end");
     app.add_flag("--quiet", quiet, "no progress line, only the final summary");
@@ -518,13 +518,13 @@ int main(int argc, char** argv) {
             return run_scene(c, plan, others);
         }
         biaxial::apply_preset(c, preset);
-        biaxial::apply_options(given, c);
+        micromacro::cli::apply_options(biaxial::parameter_table(), given, c);
         // Eq. 30's weak damping unless --gamma-b says otherwise: strong lab damping drags the flow.
         if (c.damping == "lab" && !app.get_option("--gamma-b")->count()) c.gamma_b = 1e-4;
         if (!plan.from_prepared.empty()) {
             // The packing, and so everything that made it, comes from the prepared state: options
             // of the preparation would be recorded in run.json without having acted.
-            for (const std::string& name : biaxial::preparation_options_given(given))
+            for (const std::string& name : micromacro::cli::preparation_options_given(biaxial::parameter_table(), given))
                 micromacro::throw_input_error(name, " cannot be given with --from-prepared: the prepared state "
                                                     "holds the packing it made (run.json records its value); drop ", name);
             const auto prepared = config_from_json(
@@ -532,7 +532,7 @@ int main(int argc, char** argv) {
             if (prepared.dim != c.dim)
                 micromacro::throw_input_error(plan.from_prepared, " holds a different scene (dim=", prepared.dim,
                                                       "), this run asks for --dim ", c.dim);
-            biaxial::take_preparation(prepared, c);
+            micromacro::cli::take_preparation(biaxial::parameter_table(), prepared, c);
         }
         for (const std::string& name : biaxial::options_of_other_law(given, c))
             micromacro::throw_input_error(name, " does not apply to --law ", c.law,

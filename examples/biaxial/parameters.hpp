@@ -1,39 +1,23 @@
 #pragma once
-// Every parameter of the biaxial test written once: its command-line option (if it has one), its
-// key in run.json and in saved states, its help text, and whether it made the packing (then a
-// prepared state supplies it). The command line, run.json and the states are all made from this
-// table.
+// Every parameter of the biaxial test written once (see ../parameter_table.hpp): its option, its
+// key in run.json and in saved states, its help text, whether it made the packing, and the contact
+// law it belongs to.
 #include <cstddef>
 #include <string>
-#include <type_traits>
-#include <utility>
-#include <variant>
 #include <vector>
 
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "../command_line.hpp"
+#include "../parameter_table.hpp"
 #include "biaxial.hpp"
 
 namespace biaxial {
 
-struct Parameter {
-    const char* option;  ///< "--mu", or nullptr: set by the presets and saved, not an option
-    const char* key;     ///< in run.json's "parameters"
-    const char* help;
-    std::variant<double Config::*, std::size_t Config::*, unsigned long long Config::*, int Config::*, std::string Config::*,
-                 bool Config::*>
-        field;
-    bool preparation = false;  ///< made the packing: a prepared state supplies it
-    const char* law = nullptr;  ///< the contact law it belongs to (Config::law), or nullptr: every law
-    bool later = false;         ///< added after files were written without it: those keep the default
-};
-
 /// In run.json's order. --dim and --preset choose the presets and are handled apart.
-inline const std::vector<Parameter>& parameter_table() {
+inline const micromacro::cli::ParameterTable<Config>& parameter_table() {
     using C = Config;
-    static const std::vector<Parameter> table{
+    static const micromacro::cli::ParameterTable<Config> table{
         {nullptr, "dim", "", &C::dim},
         {nullptr, "preset", "", &C::preset},
         {"--particles", "particles", "number of particles", &C::particles, true},
@@ -95,8 +79,7 @@ inline const std::vector<Parameter>& parameter_table() {
 
 /// run.json's "parameters": the table, then two derived figures.
 inline nlohmann::ordered_json parameters_json(const Config& c) {
-    nlohmann::ordered_json j;
-    for (const Parameter& p : parameter_table()) std::visit([&](auto field) { j[p.key] = c.*field; }, p.field);
+    nlohmann::ordered_json j = micromacro::cli::parameters_json(parameter_table(), c);
     j["pressure_unit"] = c.dim == 2 ? "N/m" : "Pa";
     j["gamma_r_kg_m2_s"] = c.rotational_damping(c.gamma_b);
     return j;
@@ -107,20 +90,7 @@ inline nlohmann::ordered_json parameters_json(const Config& c) {
 /// default (the paper's inner box, the linear law, the upper walls preparing), whatever the
 /// presets set now.
 inline Config config_from_json(const nlohmann::ordered_json& j, Config c) {
-    const auto& saved = j.at("parameters");
-    const Config then;
-    for (const Parameter& p : parameter_table())
-        std::visit(
-            [&](auto field) {
-                using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
-                if (p.later && !saved.contains(p.key)) {
-                    c.*field = then.*field;
-                    return;
-                }
-                c.*field = saved.at(p.key).template get<T>();
-            },
-            p.field);
-    return c;
+    return micromacro::cli::config_from_json(parameter_table(), j.at("parameters"), c);
 }
 
 /// The options of the table that belong to another contact law than the configuration's and
@@ -133,55 +103,6 @@ inline std::vector<std::string> options_of_other_law(const std::vector<CLI::Opti
     for (std::size_t k = 0; k < table.size(); ++k)
         if (table[k].law && c.law != table[k].law && options[k] && options[k]->count()) given.push_back(options[k]->get_name());
     return given;
-}
-
-/// The table's options on `app`, unbound: read after the preset is applied (apply_options).
-inline std::vector<CLI::Option*> add_options(CLI::App& app) {
-    std::vector<CLI::Option*> options;
-    for (const Parameter& p : parameter_table()) {
-        CLI::Option* o = nullptr;
-        if (p.option)
-            o = std::holds_alternative<bool Config::*>(p.field) ? app.add_flag(p.option, p.help) : app.add_option(p.option, p.help);
-        options.push_back(o);
-    }
-    return options;
-}
-
-/// The options given, over the preset's values in `c`. Counts and seeds are whole numbers >= 0
-/// as typed: "-5" or "1e19" is refused, not wrapped.
-inline void apply_options(const std::vector<CLI::Option*>& options, Config& c) {
-    const auto& table = parameter_table();
-    for (std::size_t k = 0; k < table.size(); ++k) {
-        const CLI::Option* o = options[k];
-        if (!o || !o->count()) continue;
-        std::visit(
-            [&](auto field) {
-                using T = std::remove_cvref_t<decltype(std::declval<Config&>().*field)>;
-                if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, unsigned long long>) {
-                    c.*field = micromacro::cli::whole_number<T>(*o);
-                } else if constexpr (std::is_same_v<T, bool>) {
-                    c.*field = true;
-                } else {
-                    c.*field = o->as<T>();
-                }
-            },
-            table[k].field);
-    }
-}
-
-/// The options of the table that made the packing and were given (refused with --from-prepared).
-inline std::vector<std::string> preparation_options_given(const std::vector<CLI::Option*>& options) {
-    std::vector<std::string> given;
-    const auto& table = parameter_table();
-    for (std::size_t k = 0; k < table.size(); ++k)
-        if (table[k].preparation && options[k] && options[k]->count()) given.push_back(options[k]->get_name());
-    return given;
-}
-
-/// What a prepared state fixes: the table's preparation parameters, from `prepared` into `c`.
-inline void take_preparation(const Config& prepared, Config& c) {
-    for (const Parameter& p : parameter_table())
-        if (p.preparation) std::visit([&](auto field) { c.*field = prepared.*field; }, p.field);
 }
 
 }  // namespace biaxial

@@ -4,15 +4,12 @@
 // table that makes the command line, run.json and the saved states.
 #include <cmath>
 #include <string>
-#include <type_traits>
 #include <utility>
-#include <variant>
 #include <vector>
 
-#include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
-#include "../command_line.hpp"
+#include "../parameter_table.hpp"
 
 #include <micromacro/micromacro.hpp>
 
@@ -55,6 +52,7 @@ struct Config {
     double servo_time = 1.0;          // the servo corrects a stress error in this many contact durations
     double max_rate_factor = 10.0;    // the servo's largest rate over the loading's rate
     double gamma_b = 5e-2;            // kg/s: damping against the cell's flow (AffineDamping)
+    double gamma_b_prepare = 5e-2;    // kg/s: the same while preparing (rattlers come to rest only by it)
     double dt_fraction = 50.0;        // dt = t_c / dt_fraction, t_c of two mean particles
     double start_volume_fraction = 0.3;  // the fresh packing's gas before the preparation
     double prepare_inertial_number = 1e-2;  // the preparation's largest compression rate, as an inertial number
@@ -89,18 +87,10 @@ inline void apply_preset(Config& c, const std::string& preset) {
     c.strain = preset == "oedometric" ? 0.02 : preset == "triaxial" ? 0.2 : preset == "isotropic" ? 0.05 : 1.0;
 }
 
-struct Parameter {
-    const char* option;  ///< "--mu", or nullptr: saved but not an option
-    const char* key;     ///< in run.json's "parameters"
-    const char* help;
-    std::variant<double Config::*, std::size_t Config::*, unsigned long long Config::*, int Config::*, std::string Config::*> field;
-    bool preparation = false;  ///< made the packing: a prepared state supplies it
-};
-
 /// In run.json's order. --dim and --preset choose the defaults and are handled apart.
-inline const std::vector<Parameter>& parameter_table() {
+inline const micromacro::cli::ParameterTable<Config>& parameter_table() {
     using C = Config;
-    static const std::vector<Parameter> table{
+    static const micromacro::cli::ParameterTable<Config> table{
         {nullptr, "dim", "", &C::dim},
         {nullptr, "preset", "", &C::preset},
         {"--particles", "particles", "number of particles of a fresh packing (default 400 in 2D, 1000 in 3D)", &C::particles, true},
@@ -134,7 +124,11 @@ inline const std::vector<Parameter>& parameter_table() {
          &C::servo_time},
         {"--max-rate-factor", "max_rate_factor", "the servo's largest strain rate over the loading's (default 10)",
          &C::max_rate_factor},
-        {"--gamma-b", "gamma_b_kg_s", "damping against the cell's flow in kg/s (default 5e-2, the biaxial test's)", &C::gamma_b},
+        {"--gamma-b", "gamma_b_kg_s", "damping against the cell's flow in kg/s during the loading (default 5e-2, the biaxial test's)",
+         &C::gamma_b},
+        {"--gamma-b-prepare", "gamma_b_prepare_kg_s",
+         "damping against the cell's flow in kg/s while preparing, above 0: rattlers rest only by it (default 5e-2)",
+         &C::gamma_b_prepare, true, nullptr, true},
         {"--dt-fraction", "dt_fraction", "dt = t_c / this, t_c of two mean particles (default 50)", &C::dt_fraction},
         {"--start-volume-fraction", "start_volume_fraction",
          "a fresh packing's gas before the preparation (default 0.3)", &C::start_volume_fraction, true},
@@ -148,9 +142,9 @@ inline const std::vector<Parameter>& parameter_table() {
     return table;
 }
 
+/// run.json's "parameters": the table, then the figures derived from it.
 inline nlohmann::ordered_json parameters_json(const Config& c) {
-    nlohmann::ordered_json j;
-    for (const Parameter& p : parameter_table()) std::visit([&](auto field) { j[p.key] = c.*field; }, p.field);
+    nlohmann::ordered_json j = micromacro::cli::parameters_json(parameter_table(), c);
     j["pressure_unit"] = c.dim == 2 ? "N/m" : "Pa";
     j["strain_rate_1_s"] = c.rate();
     j["time_step_s"] = c.time_step();
@@ -158,12 +152,9 @@ inline nlohmann::ordered_json parameters_json(const Config& c) {
     return j;
 }
 
+/// The configuration saved in run.json or a state (`j` holds "parameters").
 inline Config config_from_json(const nlohmann::ordered_json& j) {
-    Config c;
-    const auto& saved = j.at("parameters");
-    for (const Parameter& p : parameter_table())
-        std::visit([&](auto field) { c.*field = saved.at(p.key).template get<std::remove_cvref_t<decltype(c.*field)>>(); }, p.field);
-    return c;
+    return micromacro::cli::config_from_json(parameter_table(), j.at("parameters"), Config{});
 }
 
 /// Refuses what cannot run, naming the value, the limit and the fix.
@@ -189,6 +180,7 @@ inline void validate(const Config& c) {
     positive(c.max_rate_factor, "--max-rate-factor", "10 is the default");
     positive(c.rest_ratio, "--rest-ratio", "1e-6 is the default");
     positive(c.probe_strain, "--probe-strain", "1e-4 is the default");
+    positive(c.gamma_b_prepare, "--gamma-b-prepare", "5e-2 is the default");
     for (const auto& [v, option] : {std::pair{c.gamma0, "--gamma0"}, {c.gamma_b, "--gamma-b"}, {c.mu, "--mu"},
                                     {c.mu_prepare, "--mu-prepare"}, {c.kt_ratio, "--kt-ratio"}})
         if (!(v >= 0) || !std::isfinite(v)) throw_input_error(option, " ", v, " must be a finite number of 0 or more");
@@ -205,38 +197,6 @@ inline void validate(const Config& c) {
     if (!(c.rows >= 1 && c.rows <= 1e6 && c.rows == std::floor(c.rows)))
         throw_input_error("--rows ", c.rows, " must be a whole number from 1 to 1e6");
     c.contact_duration();  // throws for an overdamped contact
-}
-
-/// The table's options on `app`, read after the preset's defaults are set (apply_options).
-inline std::vector<CLI::Option*> add_options(CLI::App& app) {
-    std::vector<CLI::Option*> options;
-    for (const Parameter& p : parameter_table()) options.push_back(p.option ? app.add_option(p.option, p.help) : nullptr);
-    return options;
-}
-
-/// The options given, over the preset's defaults in `c`; counts and seeds as whole numbers as typed.
-inline void apply_options(const std::vector<CLI::Option*>& options, Config& c) {
-    const auto& table = parameter_table();
-    for (std::size_t k = 0; k < table.size(); ++k)
-        if (options[k] && options[k]->count())
-            std::visit(
-                [&](auto field) {
-                    using T = std::remove_cvref_t<decltype(c.*field)>;
-                    if constexpr (std::is_same_v<T, std::size_t> || std::is_same_v<T, unsigned long long>)
-                        c.*field = micromacro::cli::whole_number<T>(*options[k]);
-                    else
-                        c.*field = options[k]->as<T>();
-                },
-                table[k].field);
-}
-
-/// The options of the table that made the packing and were given (refused with --from-prepared).
-inline std::vector<std::string> preparation_options_given(const std::vector<CLI::Option*>& options) {
-    std::vector<std::string> given;
-    const auto& table = parameter_table();
-    for (std::size_t k = 0; k < table.size(); ++k)
-        if (table[k].preparation && options[k] && options[k]->count()) given.push_back(options[k]->get_name());
-    return given;
 }
 
 }  // namespace element_test

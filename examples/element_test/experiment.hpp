@@ -13,26 +13,13 @@
 #include <micromacro/io/packing_files.hpp>
 #include <micromacro/micromacro.hpp>
 
+#include "../timeseries_row.hpp"
 #include "config.hpp"
 
 namespace element_test {
 
-/// One row of the time series: named columns, in order.
-struct Row {
-    std::vector<std::string> names;
-    std::vector<double> values;
-    void add(const std::string& name, double value) {
-        names.push_back(name);
-        values.push_back(value);
-    }
-};
-
-/// "13" for the indices (0, 2): the columns' 1-based component names.
-inline std::string idx(std::initializer_list<int> i) {
-    std::string t;
-    for (int a : i) t += std::to_string(a + 1);
-    return t;
-}
+using mm::cli::Row;
+inline constexpr auto idx = &mm::cli::component;  ///< "13" for the indices (0, 2)
 
 /// Particles in a periodic cell, before they become a scene.
 template <int dim>
@@ -129,7 +116,7 @@ public:
     template <class Progress>
     void prepare(Progress&& progress) {
         sim_.set_time_step(c_.time_step());
-        sim_.template body_force<mm::AffineDamping>() = mm::AffineDamping(c_.gamma_b, rotational(c_.gamma_b));
+        sim_.template body_force<mm::AffineDamping>() = mm::AffineDamping(c_.gamma_b_prepare, rotational(c_.gamma_b_prepare));
         sim_.sort_spatially();
         sim_.prepare();
         const double max_rate = c_.rate_of(c_.prepare_inertial_number, c_.pressure);
@@ -141,7 +128,7 @@ public:
             if (servo.time() > limit)
                 mm::throw_input_error("the preparation did not come to rest at p = ", c_.pressure, " within ", limit,
                                       " s of simulated time (pressure now ", servo.measure(sim_).pressure,
-                                      "); raise --gamma-b or lower --prepare-inertial-number");
+                                      "); raise --gamma-b-prepare or lower --prepare-inertial-number");
             servo.run(sim_, 1000);
             progress(m);
         }
@@ -265,14 +252,7 @@ public:
             r.add("coordination_without_rattlers", mm::average(snapshot, mm::Region<dim>::whole(snapshot), without).coordination);
         }
         r.add("volume_fraction", m.volume_fraction);
-        for (int a = 0; a < dim; ++a)
-            for (int b = a; b < dim; ++b)
-                for (int c = 0; c < dim; ++c)
-                    for (int d = c; d < dim; ++d)
-                        if (a * dim + b <= c * dim + d) r.add("C_n_" + idx({a, b, c, d}), m.stiffness_normal(a, b, c, d));
-        for (int p = 0; p < dim * dim; ++p)
-            for (int q = p; q < dim * dim; ++q)
-                r.add("C_t_" + idx({p / dim, p % dim, q / dim, q % dim}), m.stiffness_tangential(p / dim, p % dim, q / dim, q % dim));
+        mm::cli::add_stiffness_columns(r, m);
         // I = (largest imposed strain rate) d sqrt(rho / p), with the pressure now.
         const double rate = L.cwiseAbs().maxCoeff();
         r.add("inertial_number", m.pressure > 0 ? rate * 2.0 * c_.mean_radius() * std::sqrt(c_.inertial_density() / m.pressure) : 0.0);

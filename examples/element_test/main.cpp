@@ -245,11 +245,8 @@ int run(const Config& c, const Plan& plan) {
             exp.prepare([&](const mm::MicroMacro<dim>& m) { progress("prepare", 0.0, m.pressure); });
             mm::io::save_state(sim, out / "prepared.state", settings(0, 0), "prepared");
         } else {
-            const nlohmann::ordered_json saved = nlohmann::ordered_json::parse(mm::io::load_state(sim, plan.from_prepared, "prepared"));
-            const auto& p = saved.at("parameters");
-            if (p.at("dim").get<int>() != dim)
-                mm::throw_input_error("--from-prepared ", plan.from_prepared, " holds a ", p.at("dim").get<int>(), "D packing; this run is ",
-                                      dim, "D: give --dim ", p.at("dim").get<int>());
+            // main() has checked that it is element_test's state of this dimension.
+            (void)mm::io::load_state(sim, plan.from_prepared, "prepared");
             steps_before = sim.steps_done();
         }
         prepare_seconds = elapsed();
@@ -346,7 +343,7 @@ int main(int argc, char** argv) {
                  "timeseries.csv (probes.csv for the probes), prepared.state, VTK frames and pictures into --out."};
     app.add_option("--dim", c.dim, "2 (disks) or 3 (spheres)")->check(CLI::IsMember({2, 3}))->capture_default_str();
     app.add_option("--preset", preset, preset_help)->capture_default_str();
-    const auto options = add_options(app);
+    const auto options = micromacro::cli::add_options(app, parameter_table());
     app.add_option("--out", out, "the run's folder (created); a folder holding a run is refused without --overwrite");
     app.add_flag("--overwrite", overwrite, "replace the run in --out (only the files a run writes are removed)");
     app.add_option("--from-prepared", plan.from_prepared, "start the loading from this prepared.state of an earlier element_test run");
@@ -389,20 +386,18 @@ int main(int argc, char** argv) {
                 mm::throw_input_error("--from-prepared and --packing both give the packing; give one");
             if (!plan.box.empty() && plan.packing.empty()) mm::throw_input_error("--box is the cell of a --packing file; give --packing");
             apply_preset(c, preset);
-            apply_options(options, c);
+            micromacro::cli::apply_options(parameter_table(), options, c);
             if (!plan.from_prepared.empty()) {
-                if (const auto given = preparation_options_given(options); !given.empty())
+                if (const auto given = micromacro::cli::preparation_options_given(parameter_table(), options); !given.empty())
                     mm::throw_input_error(given.front(), " made the packing; --from-prepared ", plan.from_prepared,
                                           " supplies it; drop ", given.front());
                 const Config prepared = prepared_config(plan.from_prepared);
                 if (prepared.dim != c.dim)
                     mm::throw_input_error("--from-prepared ", plan.from_prepared, " holds a ", prepared.dim, "D packing; give --dim ",
                                           prepared.dim);
-                for (const Parameter& p : parameter_table())
-                    if (p.preparation) std::visit([&](auto field) { c.*field = prepared.*field; }, p.field);
-                const auto& table = parameter_table();
-                for (std::size_t k = 0; k < table.size(); ++k)  // unless given, the loading's p is the one the packing rests at
-                    if (table[k].option && std::string(table[k].option) == "--pressure" && !options[k]->count()) c.pressure = prepared.pressure;
+                micromacro::cli::take_preparation(parameter_table(), prepared, c);
+                // Unless given, the loading's p is the one the packing rests at.
+                if (!micromacro::cli::given(parameter_table(), options, "pressure")) c.pressure = prepared.pressure;
             }
             validate(c);
             plan.out = out;

@@ -216,6 +216,8 @@ BOOST_AUTO_TEST_CASE(bad_input_is_refused_before_anything_is_written) {
         {"--preset triaxial --strain 0.95", "--strain 0.95 is out of range"},
         {"--pressure -1", "--pressure -1 must be a finite number above 0"},
         {"--mu -1", "--mu -1 must be a finite number of 0 or more"},
+        {"--gamma-b-prepare 0", "--gamma-b-prepare 0 must be a finite number above 0"},
+        {"--from-prepared " + prepared_2d().string() + " --gamma-b-prepare 1", "--gamma-b-prepare made the packing"},
         {"--particles -5", "--particles '-5' is not a whole number"},
         {"--seed 1e19", "--seed '1e19' is not a whole number"},
         {"--target-pressure 10", "--target-pressure 10 must exceed --pressure 1000"},
