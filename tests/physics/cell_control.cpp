@@ -62,6 +62,30 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(strain_paths_are_followed, D, Dims) {
     BOOST_TEST((sim.domain().lattice() - expected).norm() <= 1e-12 * expected.norm());
 }
 
+// What a servo reads (read: straight from the contacts) is the full average's (measure: through a
+// snapshot): the same stress to the bit, contact and kinetic parts, in a cell compressed and
+// sheared while it moves; each stiffness entry C^n_ikik + C^t_ikik to round-off.
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_servo_reads_the_averaged_stress_and_stiffness, D, Dims) {
+    constexpr int dim = D::value;
+    auto sim = gas<dim>(200, 7);
+    auto control = mm::CellControl<dim>::following_stiffness(50 * sim.time_step(), 20.0);
+    control.pressure(dim == 2 ? 1000.0 : 1e6);
+    control.run(sim, 20000);
+    control.rate(0, dim - 1, 5.0);
+    control.run(sim, 3000);  // the cell moves: the kinetic stress is measured against its flow
+    const auto m = control.measure(sim);
+    const auto r = control.read(sim);
+    BOOST_TEST_REQUIRE(m.contacts > 30u);
+    BOOST_TEST(m.stress_kinetic.norm() > 0.0);
+    BOOST_TEST(std::abs(m.stress(0, dim - 1)) > 0.0);
+    for (int i = 0; i < dim; ++i)
+        for (int k = 0; k < dim; ++k) {
+            BOOST_TEST(r.stress(i, k) == m.stress(i, k), i << k);
+            const double C = m.stiffness_normal(i, k, i, k) + m.stiffness_tangential(i, k, i, k);
+            BOOST_TEST(std::abs(r.stiffness(i, k) - C) <= 1e-13 * C, i << k << ": " << r.stiffness(i, k) << " against " << C);
+        }
+}
+
 // A gas compressed by the pressure servo ends jammed at the target pressure, each normal stress
 // at it and the shear stresses near zero, the particles nearly at rest.
 BOOST_TEST_DECORATOR(*boost::unit_test::label("long"))

@@ -34,6 +34,12 @@ template <int dim>
 class CellControl {
 public:
     using Matrix = Eigen::Matrix<double, dim, dim>;
+    /// What the servos act on: the cell's stress (contact and kinetic, compression positive) and,
+    /// per component (i, k), the averaged stiffness C^n_ikik + C^t_ikik.
+    struct Reading {
+        Matrix stress = Matrix::Zero();
+        Matrix stiffness = Matrix::Zero();
+    };
     /// F_ik as a function of the time since the control started (s).
     using StrainPath = std::function<double(double)>;
 
@@ -85,13 +91,54 @@ public:
         return average(s, Region<dim>::whole(s), opt);
     }
 
+    /// What a servo reads of the cell: measure()'s stress, the same sums in the same order (so the
+    /// same numbers), and the stiffness entries C^n_ikik + C^t_ikik, added straight from the
+    /// simulation's contacts without a snapshot or the rest of the average (which would cost a
+    /// servoed run as much again as its steps). A cell with a wall is read through measure().
+    template <class Sim>
+    static Reading read(const Sim& sim) {
+        const Domain<dim>& domain = sim.domain();
+        bool periodic = true;
+        for (int a = 0; a < dim; ++a) periodic = periodic && domain.periodic(a);
+        if (!periodic) {
+            const MicroMacro<dim> m = measure(sim);
+            Reading r{m.stress, Matrix::Zero()};
+            for (int k = 0; k < dim; ++k)
+                for (int i = 0; i < dim; ++i) r.stiffness(i, k) = m.stiffness_normal(i, k, i, k) + m.stiffness_tangential(i, k, i, k);
+            return r;
+        }
+        const double V = (domain.hi() - domain.lo()).prod();  // Region::whole's volume, as measure() divides by it
+        const double w = 1.0 / V;
+        Matrix normal = Matrix::Zero(), tangential = Matrix::Zero(), kinetic = Matrix::Zero();
+        Matrix stiffness_normal = Matrix::Zero(), stiffness_tangential = Matrix::Zero();
+        sim.for_each_contact([&](const ContactView<dim>& v) {  // as ContactSums::add, with w = 1 / V
+            const Vec<dim> n = v.wall ? v.geometry.normal : Vec<dim>(v.branch / v.branch.norm());
+            normal += (w * v.normal_force) * v.branch * n.transpose();
+            tangential += w * v.branch * v.tangential_force.transpose();
+            const double l2 = v.branch.squaredNorm(), cn = w * v.stiffness * l2, ct = w * v.tangential_stiffness * l2;
+            for (int k = 0; k < dim; ++k)
+                for (int i = 0; i < dim; ++i) {  // Tensor4::add_outer's n_i n_k n_i n_k, add_tangential's n_i n_i (1 - n_k n_k)
+                    stiffness_normal(i, k) += cn * (n[i] * n[k]) * (n[i] * n[k]);
+                    stiffness_tangential(i, k) += ct * n[i] * n[i] * (1.0 - n[k] * n[k]);
+                }
+        });
+        const auto& p = sim.particles();
+        const Matrix& L = domain.velocity_gradient();
+        for (std::size_t q = 0; q < p.size(); ++q) {
+            Vec<dim> u = convert<double>(p.velocity()[q]);
+            if (domain.moving()) u -= L * (convert<double>(p.position()[q]) - domain.centre());
+            kinetic += p.mass()[q] * u * u.transpose() / V;
+        }
+        return {normal + tangential + kinetic, stiffness_normal + stiffness_tangential};
+    }
+
     /// One interval: measures the stress where a servo needs it, sets L, runs the steps (at most
     /// `steps`, default the interval) and steps F. Returns the steps run.
     template <class Sim>
     std::size_t step(Sim& sim, std::size_t steps = 0) {
         const std::size_t n = steps == 0 ? interval_ : std::min(steps, interval_);
         const double dt = sim.time_step(), span = double(n) * dt;
-        if (any_servo()) last_ = measure(sim);
+        if (any_servo()) last_ = read(sim);
         const Matrix L = gradient(span);
         sim.set_velocity_gradient(L);
         sim.run(n);
@@ -121,8 +168,8 @@ public:
         deformation_ = deformation;
         time_ = time;
     }
-    /// The average the servos last measured (empty before the first interval with a servo).
-    const MicroMacro<dim>& last_measurement() const { return last_; }
+    /// What the servos last read (zero before the first interval with a servo).
+    const Reading& last_reading() const { return last_; }
 
 private:
     enum class Kind { hold, rate, path, stress };
@@ -177,7 +224,7 @@ private:
     double servo_rate(int i, int k, double target) const {
         const double error = 0.5 * (last_.stress(i, k) + last_.stress(k, i)) - target;
         if (relaxation_time_ == 0.0) return gain_ * error;
-        const double C = last_.stiffness_normal(i, k, i, k) + last_.stiffness_tangential(i, k, i, k);
+        const double C = last_.stiffness(i, k);
         if (C > 0.0) return error / (C * relaxation_time_);
         return i == k && error != 0.0 ? std::copysign(max_rate_, error) : 0.0;  // a gas: closed at the limit, not sheared
     }
@@ -201,7 +248,7 @@ private:
     Component component_[dim][dim];
     Matrix deformation_ = Matrix::Identity();
     double time_ = 0.0;
-    MicroMacro<dim> last_;
+    Reading last_;
 };
 
 }  // namespace micromacro
