@@ -9,9 +9,11 @@
     scripts/element_test_evidence.py walls             # the periodic triaxial test against the walled biaxial box
 
 Runs build/examples/element_test (BUILD_DIR to change) into runs/evidence/ (OUT to change), then
-prints a markdown table; DIMS="2" limits jamming to 2D. Standard library only; a run whose
+prints a markdown table; DIMS="2" limits jamming to 2D; JOBS=2 runs two at a time where runs are
+independent. Standard library only; a run whose
 run.json is there is not run again.
 """
+import concurrent.futures
 import csv
 import json
 import math
@@ -23,6 +25,7 @@ import sys
 BUILD = os.environ.get("BUILD_DIR", "build")
 OUT = os.environ.get("OUT", "runs/evidence")
 DIMS = [int(d) for d in os.environ.get("DIMS", "2 3").split()]
+JOBS = int(os.environ.get("JOBS", "1"))
 
 
 def run(program, args, folder, pictures=False):
@@ -32,6 +35,12 @@ def run(program, args, folder, pictures=False):
         subprocess.run([os.path.join(BUILD, "examples", program)] + args + ["--out", out, "--overwrite", "--quiet"] +
                        ([] if pictures else ["--no-pictures"]), check=True, stdout=subprocess.DEVNULL)
     return out
+
+
+def run_all(runs):
+    """run() for each (program, args, folder), JOBS (default 1) at a time; their folders in order."""
+    with concurrent.futures.ThreadPoolExecutor(max_workers=JOBS) as pool:
+        return list(pool.map(lambda r: run(*r), runs))
 
 
 def series(out):
@@ -143,21 +152,55 @@ def jamming():
 
 
 def frictionless_shear():
-    """Simple shear at constant p of frictionless spheres (p d/k = 1e-3) to a strain of 2: Peyneau
-    and Roux (2008) find the quasi-static friction mu* = 0.1 and no dilatancy, phi at random close
-    packing (0.64)."""
-    print("| I | mean -sigma_13 / sigma_33 (strain 1-2, 95%) | mean volume fraction | mean coordination without rattlers |")
+    """Simple shear at constant p of frictionless spheres (p d/k = 1e-3) to a strain of 1 at
+    inertial numbers from 3e-3 down to 3e-5, each from one prepared packing, with weak damping
+    against the flow (gamma_b = 5e-4 kg/s, 1/200 of the contacts' gamma_0): Peyneau and Roux (2008)
+    find mu(I) = mu* + a I^alpha with the quasi-static friction mu* = 0.1 and no dilatancy (phi at
+    the random close packing). The volume fraction is compared with the prepared packing's, the
+    isotropic packing at rest at the same p d/k."""
+    common = ["--dim", "3", "--preset", "shear-p", "--mu", "0", "--pressure", "5e4", "--gamma-b", "5e-4", "--strain", "1",
+              "--rows", "400"]
+    first = run("element_test", common + ["--particles", "1000", "--mu-prepare", "0", "--inertial-number", "1e-3"],
+                "frictionless_shear_I1e-3")
+    prepared = os.path.join(first, "prepared.state")
+    rates = ("3e-5", "1e-4", "3e-4", "1e-3", "3e-3")
+    outs = run_all([("element_test", common + ["--from-prepared", prepared, "--inertial-number", i], f"frictionless_shear_I{i}")
+                    for i in rates if i != "1e-3"])
+    outs.insert(rates.index("1e-3"), first)
+    print("| I | mean -sigma_13 / sigma_33 (strain 0.5-1, 95%) | mean volume fraction | mean Z without rattlers |")
     print("|---|---|---|---|")
-    for inertial in ("3e-3", "1e-3"):
-        out = run("element_test", ["--dim", "3", "--preset", "shear-p", "--particles", "1000", "--mu", "0", "--mu-prepare", "0",
-                                   "--pressure", "5e4", "--inertial-number", inertial, "--strain", "2", "--rows", "400"],
-                  f"frictionless_shear_I{inertial}")
+    points = []
+    for inertial, out in zip(rates, outs):
         s = series(out)
-        keep = [i for i, g in enumerate(s["gamma_13"]) if g >= 1.0]
+        keep = [i for i, g in enumerate(s["gamma_13"]) if g >= 0.5]
         mu, dmu = mean_and_interval([s["shear_stress_ratio"][i] for i in keep])
-        phi = statistics.fmean(s["volume_fraction"][i] for i in keep)
+        phi, dphi = mean_and_interval([s["volume_fraction"][i] for i in keep])
         z = statistics.fmean(s["coordination_without_rattlers"][i] for i in keep)
-        print(f"| {inertial} | {mu:.3f} +- {dmu:.3f} | {phi:.4f} | {z:.2f} |")
+        points.append((statistics.fmean(s["inertial_number"][i] for i in keep), mu, dmu, phi, dphi))
+        print(f"| {inertial} | {mu:.3f} +- {dmu:.3f} | {phi:.4f} +- {dphi:.4f} | {z:.2f} |")
+    # mu(I) = mu* + a I^alpha, each point weighted by its own interval (sigma = interval / t for 4
+    # degrees of freedom): for each alpha, mu* and a by weighted least squares; alpha where chi^2 is
+    # least; mu*'s 95% interval from the fit's covariance at that alpha, widened to every alpha
+    # whose chi^2 is within 1 of the least.
+    fits = []
+    for alpha in [0.1 + 0.01 * j for j in range(91)]:
+        sw = swx = swxx = swy = swxy = 0.0
+        for i, m, dm, *_ in points:
+            w, x = (2.776 / dm) ** 2, i ** alpha
+            sw, swx, swxx, swy, swxy = sw + w, swx + w * x, swxx + w * x * x, swy + w * m, swxy + w * x * m
+        det = sw * swxx - swx * swx
+        a = (sw * swxy - swx * swy) / det
+        mu_star = (swy - a * swx) / sw
+        chi2 = sum((m - mu_star - a * i ** alpha) ** 2 * (2.776 / dm) ** 2 for i, m, dm, *_ in points)
+        fits.append((chi2, alpha, mu_star, a, math.sqrt(swxx / det)))
+    chi2, alpha, mu_star, a, sd = min(fits)
+    low = min(f[2] - 1.96 * f[4] for f in fits if f[0] <= chi2 + 1)
+    high = max(f[2] + 1.96 * f[4] for f in fits if f[0] <= chi2 + 1)
+    print(f"\nmu(I) = mu* + a I^alpha, weighted by each point's interval: mu* = {mu_star:.3f} +- {1.96 * sd:.3f} at the best "
+          f"alpha = {alpha:.2f} (a = {a:.2f}, chi^2 = {chi2:.2f}); over every alpha within chi^2 + 1, mu* in [{low:.3f}, {high:.3f}]")
+    s = series(first)
+    print(f"the isotropic packing at rest at the same p (the prepared state): volume fraction {s['volume_fraction'][0]:.4f}, "
+          f"Z without rattlers {s['coordination_without_rattlers'][0]:.2f}")
 
 
 def rate():
