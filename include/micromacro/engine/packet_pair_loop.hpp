@@ -288,14 +288,22 @@ void packet_pair_loop(const In& in, const Domain<dim>& domain, const FrictionalL
         torque[current] = ti;
         // The cell's power through each contact (packet_forces), added in the list's order as
         // scalar_pair_loop adds it; a loop of its own: inside the one above its sum went through
-        // memory for each contact (0.87x in a sheared 2D cell).
+        // memory for each contact (0.87x in a sheared 2D cell). Only a contact with a moving image
+        // (across the cell's boundary, a few percent) has power; the others' exact zeros, which
+        // leave the sum as it is to the bit, are skipped eight at a time, so that the sum's chain
+        // of additions runs over the few (the chain over all was most of a sheared cell's cost).
         if constexpr (track && periodic)
             if (moving) [[unlikely]] {
                 double cell_work = account.work_by_cell;
-                for (std::size_t k = 0; k < count; ++k) {
-                    if (sq[k] == 0.0) [[unlikely]] continue;
-                    const double weight = weighed && std::max(first[k], second[k]) >= in.first_ghost ? 0.5 : 1.0;
-                    cell_work += weight * out[9][k] * dt;
+                for (std::size_t k0 = 0; k0 < count; k0 += pk::width) {
+                    const Mask in_block = count - k0 >= std::size_t(pk::width) ? Mask(0xFF) : Mask((1u << (count - k0)) - 1);
+                    unsigned powered = _mm512_cmp_pd_mask(_mm512_load_pd(out[9] + k0), pk::zeros(), _CMP_NEQ_UQ) & in_block;
+                    for (; powered != 0; powered &= powered - 1) {
+                        const std::size_t k = k0 + std::size_t(__builtin_ctz(powered));
+                        if (sq[k] == 0.0) [[unlikely]] continue;
+                        const double weight = weighed && std::max(first[k], second[k]) >= in.first_ghost ? 0.5 : 1.0;
+                        cell_work += weight * out[9][k] * dt;
+                    }
                 }
                 account.work_by_cell = cell_work;
             }
