@@ -152,9 +152,13 @@ inline nlohmann::ordered_json parameters_json(const Config& c) {
     return j;
 }
 
-/// The configuration saved in run.json or a state (`j` holds "parameters").
+/// The configuration saved in run.json or a state (`j` holds "parameters"). A file written before
+/// --gamma-b-prepare existed was prepared with its --gamma-b.
 inline Config config_from_json(const nlohmann::ordered_json& j) {
-    return micromacro::cli::config_from_json(parameter_table(), j.at("parameters"), Config{});
+    const auto& saved = j.at("parameters");
+    Config c = micromacro::cli::config_from_json(parameter_table(), saved, Config{});
+    if (!saved.contains("gamma_b_prepare_kg_s")) c.gamma_b_prepare = c.gamma_b;
+    return c;
 }
 
 /// Refuses what cannot run, naming the value, the limit and the fix.
