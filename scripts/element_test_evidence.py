@@ -60,6 +60,28 @@ def fit_line(x, y):
     return a, b, math.sqrt(s2 * (1 / n + mx * mx / sxx)), math.sqrt(s2 / sxx)
 
 
+def fit_power_law(points, t=2.776):
+    """y = y0 + a x^alpha through (x, y, 95% interval of y), each point weighted by its interval
+    (sigma = interval / t): for each alpha in 0.1-1, y0 and a by weighted least squares; alpha
+    where chi^2 is least. Returns (chi^2, alpha, y0, a, y0's 95% interval at that alpha, and the
+    lowest and highest y0 +- interval over every alpha whose chi^2 is within 1 of the least)."""
+    fits = []
+    for alpha in [0.1 + 0.01 * j for j in range(91)]:
+        sw = swx = swxx = swy = swxy = 0.0
+        for x, y, dy in points:
+            w, u = (t / dy) ** 2, x ** alpha
+            sw, swx, swxx, swy, swxy = sw + w, swx + w * u, swxx + w * u * u, swy + w * y, swxy + w * u * y
+        det = sw * swxx - swx * swx
+        a = (sw * swxy - swx * swy) / det
+        y0 = (swy - a * swx) / sw
+        chi2 = sum((y - y0 - a * x ** alpha) ** 2 * (t / dy) ** 2 for x, y, dy in points)
+        fits.append((chi2, alpha, y0, a, 1.96 * math.sqrt(swxx / det)))
+    chi2, alpha, y0, a, dy0 = min(fits)
+    low = min(f[2] - f[4] for f in fits if f[0] <= chi2 + 1)
+    high = max(f[2] + f[4] for f in fits if f[0] <= chi2 + 1)
+    return chi2, alpha, y0, a, dy0, low, high
+
+
 def mean_and_interval(values, blocks=5):
     """The mean and a 95% interval from the means of `blocks` consecutive blocks (t with blocks - 1 degrees)."""
     size = len(values) // blocks
@@ -178,25 +200,8 @@ def frictionless_shear():
         z = statistics.fmean(s["coordination_without_rattlers"][i] for i in keep)
         points.append((statistics.fmean(s["inertial_number"][i] for i in keep), mu, dmu, phi, dphi))
         print(f"| {inertial} | {mu:.3f} +- {dmu:.3f} | {phi:.4f} +- {dphi:.4f} | {z:.2f} |")
-    # mu(I) = mu* + a I^alpha, each point weighted by its own interval (sigma = interval / t for 4
-    # degrees of freedom): for each alpha, mu* and a by weighted least squares; alpha where chi^2 is
-    # least; mu*'s 95% interval from the fit's covariance at that alpha, widened to every alpha
-    # whose chi^2 is within 1 of the least.
-    fits = []
-    for alpha in [0.1 + 0.01 * j for j in range(91)]:
-        sw = swx = swxx = swy = swxy = 0.0
-        for i, m, dm, *_ in points:
-            w, x = (2.776 / dm) ** 2, i ** alpha
-            sw, swx, swxx, swy, swxy = sw + w, swx + w * x, swxx + w * x * x, swy + w * m, swxy + w * x * m
-        det = sw * swxx - swx * swx
-        a = (sw * swxy - swx * swy) / det
-        mu_star = (swy - a * swx) / sw
-        chi2 = sum((m - mu_star - a * i ** alpha) ** 2 * (2.776 / dm) ** 2 for i, m, dm, *_ in points)
-        fits.append((chi2, alpha, mu_star, a, math.sqrt(swxx / det)))
-    chi2, alpha, mu_star, a, sd = min(fits)
-    low = min(f[2] - 1.96 * f[4] for f in fits if f[0] <= chi2 + 1)
-    high = max(f[2] + 1.96 * f[4] for f in fits if f[0] <= chi2 + 1)
-    print(f"\nmu(I) = mu* + a I^alpha, weighted by each point's interval: mu* = {mu_star:.3f} +- {1.96 * sd:.3f} at the best "
+    chi2, alpha, mu_star, a, dmu_star, low, high = fit_power_law([(i, m, dm) for i, m, dm, *_ in points])
+    print(f"\nmu(I) = mu* + a I^alpha, weighted by each point's interval: mu* = {mu_star:.3f} +- {dmu_star:.3f} at the best "
           f"alpha = {alpha:.2f} (a = {a:.2f}, chi^2 = {chi2:.2f}); over every alpha within chi^2 + 1, mu* in [{low:.3f}, {high:.3f}]")
     s = series(first)
     print(f"the isotropic packing at rest at the same p (the prepared state): volume fraction {s['volume_fraction'][0]:.4f}, "
