@@ -190,6 +190,22 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(compressing_a_periodic_box_too_far_is_refused, D, 
     BOOST_TEST(sim.domain().length(0) == 1.01 * 2.0 * range, boost::test_tools::tolerance(1e-12));
 }
 
+// The same limit while the cell deforms by its velocity gradient: the step that takes an axis
+// below two interaction ranges stops with a SimulationError naming the time and the fix.
+BOOST_AUTO_TEST_CASE_TEMPLATE(a_cell_compressed_by_its_flow_below_two_ranges_stops, D, Dims) {
+    constexpr int dim = D::value;
+    const double a = 1e-3, L = 8e-3;
+    mm::Simulation<dim, mm::FrictionlessLinear> sim(law, mm::Domain<dim>::fully_periodic(mm::Vec<dim>::Zero(), mm::Vec<dim>::Constant(L)));
+    sim.particles().add(mm::Vec<dim>::Constant(1e-3), a, mm::sphere_mass(rho, a));
+    sim.set_time_step(1e-5);
+    Eigen::Matrix<double, dim, dim> gradient = Eigen::Matrix<double, dim, dim>::Zero();
+    gradient(0, 0) = -100.0;  // axis 0 shrinks by 0.1% per step: below 2 x 2.2 mm after about 600 steps
+    sim.set_velocity_gradient(gradient);
+    expect_error<mm::SimulationError>([&] { sim.run(2000); }, {"the cell's axis 0 has shrunk to", "shorter than two interaction ranges",
+                                                              "stop the compression earlier"});
+    BOOST_TEST(sim.domain().length(0) >= 0.99 * 2.0 * mm::interaction_range(a, sim.skin()));
+}
+
 BOOST_AUTO_TEST_CASE(bad_walls) {
     mm::Walls<2> walls;
     expect_error([&] { walls.add(mm::Vec<2>::Zero(), mm::Vec<2>::Zero()); }, {"normal has length 0"});

@@ -193,11 +193,17 @@ public:
     /// A periodic axis must be at least two interaction ranges long, otherwise a particle would
     /// meet two images of the same partner and the minimum image would be ambiguous.
     void check_interaction_range(double range) const {
+        if (const int k = axis_too_short(range); k >= 0)
+            detail::throw_input_error("Domain: periodic axis ", k, " is ", length(k),
+                                      " long, shorter than two interaction ranges (2 x ", range, " = ",
+                                      2.0 * range, "); enlarge the box or use smaller particles");
+    }
+
+    /// The first periodic axis shorter than two interaction ranges, or -1 if there is none.
+    int axis_too_short(double range) const {
         for (int k = 0; k < dim; ++k)
-            if (periodic_[k] && length(k) < 2.0 * range)
-                detail::throw_input_error("Domain: periodic axis ", k, " is ", length(k),
-                                          " long, shorter than two interaction ranges (2 x ", range, " = ",
-                                          2.0 * range, "); enlarge the box or use smaller particles");
+            if (periodic_[k] && length(k) < 2.0 * range) return k;
+        return -1;
     }
 
 private:

@@ -56,12 +56,11 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
     // A periodic axis compressed below two interaction ranges would let a particle meet two
     // images of one partner, which the minimum image cannot tell apart: refused before anything moves.
     const double range = interaction_range(particles_.radius(), skin_);
-    for (int k = 0; k < dim; ++k)
-        if (deformed.periodic(k) && deformed.length(k) < 2.0 * range)
-            detail::throw_input_error("the deformation leaves periodic axis ", k, " ", deformed.length(k), " long (from ",
-                                      domain_.length(k), "), shorter than two interaction ranges (2 x ", range,
-                                      "): a particle would meet two images of one partner; deform less, or start from a "
-                                      "larger box (more particles)");
+    if (const int k = deformed.axis_too_short(range); k >= 0)
+        detail::throw_input_error("the deformation leaves periodic axis ", k, " ", deformed.length(k), " long (from ",
+                                  domain_.length(k), "), shorter than two interaction ranges (2 x ", range,
+                                  "): a particle would meet two images of one partner; deform less, or start from a "
+                                  "larger box (more particles)");
     Boundary mapped_walls = walls_;
     if constexpr (has_walls) mapped_walls.deform(F);  // first: walls it cannot map are refused before anything moves
     auto& x = particles_.template get<field::Position>();

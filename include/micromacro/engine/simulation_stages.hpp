@@ -80,13 +80,12 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::advance_cell(double dt) -> double {
     const bool rebased = domain_.advance(dt);
-    for (int k = 0; k < dim; ++k)
-        if (domain_.periodic(k) && domain_.length(k) < 2.0 * interaction_range_)
-            throw SimulationError(detail::concat(
-                "at t = ", time_ + dt, " s the cell's axis ", k, " has shrunk to ", domain_.length(k),
-                ", shorter than two interaction ranges (2 x ", interaction_range_,
-                "): a particle would meet two images of one partner; stop the compression earlier, or start from a larger cell "
-                "(more particles)"));
+    if (const int k = domain_.axis_too_short(interaction_range_); k >= 0)
+        throw SimulationError(detail::concat(
+            "at t = ", time_ + dt, " s the cell's axis ", k, " has shrunk to ", domain_.length(k),
+            ", shorter than two interaction ranges (2 x ", interaction_range_,
+            "): a particle would meet two images of one partner; stop the compression earlier, or start from a larger cell "
+            "(more particles)"));
     if (rebased) return std::numeric_limits<double>::infinity();  // another column for a tilt: bin again
     // |(H - H_search) n| for the images one period away in each direction: the columns' changes added.
     double move = 0.0;
