@@ -245,12 +245,7 @@ public:
         if constexpr (dim == 2) r.add("phi_F", m.fabric_angle);
         r.add("coordination", m.coordination);
         r.add("rattlers", double(m.rattlers));
-        {  // Z without the rattlers (fewer than dim + 1 contacts, removed repeatedly), as jamming studies count it
-            const auto snapshot = mm::take_snapshot(sim_);
-            mm::AveragingOptions without;
-            without.exclude_rattlers = true;
-            r.add("coordination_without_rattlers", mm::average(snapshot, mm::Region<dim>::whole(snapshot), without).coordination);
-        }
+        r.add("coordination_without_rattlers", m.coordination_without_rattlers);  // as jamming studies count it
         r.add("volume_fraction", m.volume_fraction);
         mm::cli::add_stiffness_columns(r, m);
         // I = (largest imposed strain rate) d sqrt(rho / p), with the pressure now.

@@ -1,7 +1,7 @@
 // The micro-macro averages of a scene run over MPI ranks (mpi::average) under mpirun with 1-4
 // ranks against the serial averages of the same scene: fabric, the stress's normal, tangential
-// and kinetic parts, the normal and tangential stiffness, coordination, volume fraction and
-// the counts of particles, contacts and rattlers, over the whole periodic box and over a box
+// and kinetic parts, the normal and tangential stiffness, coordination (also without rattlers),
+// volume fraction and the counts of particles, contacts and rattlers, over the whole periodic box and over a box
 // across the ranks' boundaries, with both selection rules and with and without rattlers, at the
 // start and after 200 steps (the particles handed to new ranks on the way). In 2D and 3D. A
 // tenth of the particles are shrunk out of contact, and the rattler peel cascades across ranks:
@@ -41,6 +41,8 @@ void compare(const mm::MicroMacro<dim>& split, const mm::MicroMacro<dim>& whole,
     BOOST_TEST(split.contacts == whole.contacts, what);
     BOOST_TEST(split.rattlers == whole.rattlers, what);
     BOOST_TEST(std::abs(split.coordination - whole.coordination) <= round_off * whole.coordination, what);
+    BOOST_TEST(std::abs(split.coordination_without_rattlers - whole.coordination_without_rattlers) <=
+                   round_off * whole.coordination_without_rattlers, what);
     BOOST_TEST(std::abs(split.volume_fraction - whole.volume_fraction) <= round_off * whole.volume_fraction, what);
     BOOST_TEST(std::abs(split.sliding_fraction - whole.sliding_fraction) <= round_off, what);
     BOOST_TEST(relative(split.fabric, whole.fabric) < round_off, what << ": fabric");

@@ -216,6 +216,9 @@ BOOST_AUTO_TEST_CASE(rattlers_are_found_iteratively) {
     BOOST_TEST(std::abs(all.coordination - 2.0 * 35 / 18) < 1e-12);  // every contact, every particle
     BOOST_TEST(std::abs(without.coordination - 4.0) < 1e-12);        // the lattice alone
     BOOST_TEST(without.contacts == 32u);
+    // The jamming coordination whatever the option: the lattice's 4 in both averages.
+    BOOST_TEST(std::abs(all.coordination_without_rattlers - 4.0) < 1e-12);
+    BOOST_TEST(without.coordination_without_rattlers == without.coordination);
 }
 
 // The rattlers of a random overlapping packing against the definition applied literally: sweep
@@ -260,6 +263,11 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(rattlers_match_the_repeated_sweep, D, Dims) {
         BOOST_TEST(total < std::size_t(n));  // and a load-bearing part remains
         BOOST_TEST((rattler == removed), "seed " << seed << ": " << std::count(rattler.begin(), rattler.end(), 1)
                                                   << " rattlers found, " << total << " by the sweep");
+        // The coordination without rattlers: twice the contacts the sweep kept over the particles it kept.
+        std::size_t kept = 0;
+        for (const auto& c : s.contacts) kept += !removed[c.i] && !removed[c.j];
+        const auto m = mm::average(s, mm::Region<dim>::whole(s));
+        BOOST_TEST(m.coordination_without_rattlers == 2.0 * double(kept) / double(n - total), boost::test_tools::tolerance(1e-14));
     }
 }
 

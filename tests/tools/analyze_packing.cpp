@@ -110,6 +110,7 @@ BOOST_AUTO_TEST_CASE(lattice_values_in_json) {
     BOOST_TEST(std::abs(j["stiffness_normal"][0][0][0][0].get<double>() / (3 * std::sqrt(3.0) / 4 * k_file) - 1) < 1e-10);
     BOOST_TEST(std::abs(j["stiffness_normal"][0][0][1][1].get<double>() / (std::sqrt(3.0) / 4 * k_file) - 1) < 1e-10);
     BOOST_TEST(std::abs(j["coordination"].get<double>() - 6.0) < 1e-15);
+    BOOST_TEST(std::abs(j["coordination_without_rattlers"].get<double>() - 6.0) < 1e-15);  // no rattlers in a lattice
     BOOST_TEST(std::abs(j["contact_number_density"].get<double>() - 6 * j["volume_fraction"].get<double>()) < 1e-10);
 }
 

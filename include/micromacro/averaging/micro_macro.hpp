@@ -42,6 +42,10 @@ struct MicroMacro {
     std::size_t rattlers = 0;   ///< of those, particles with fewer than dim + 1 contacts
     std::size_t contacts = 0;   ///< contacts with a non-zero weight
     double coordination = 0;    ///< mean contacts per particle inside (rattlers left out if excluded)
+    /// Mean contacts per particle inside among the particles that are not rattlers, contacts with
+    /// rattlers left out: the coordination jamming studies count (isostatic 2 dim at jamming for
+    /// frictionless particles), whatever `exclude_rattlers` says for the other averages.
+    double coordination_without_rattlers = 0;
     double volume_fraction = 0;
     Tensor2<dim> fabric = Tensor2<dim>::Zero();
     double contact_number_density = 0;  ///< tr F
@@ -167,6 +171,7 @@ struct AverageSums {
     Tensor2<dim> stress_kinetic = Tensor2<dim>::Zero();         ///< per unit volume
     double particles = 0, rattlers = 0, contact_count = 0;      ///< counts
     double solid = 0, counted = 0, contact_sum = 0, weight_sum = 0, sliding_weight = 0;
+    double backbone_contact_sum = 0;  ///< contacts between particles that are not rattlers (walls count), per particle's end
 
     /// Every number, in one order, for a reduction over processes.
     template <class F>
@@ -175,7 +180,8 @@ struct AverageSums {
             for (int k = 0; k < dim * dim; ++k) f(t->data()[k]);
         for (Tensor4<dim>* t : {&contacts.stiffness_normal, &contacts.stiffness_tangential})
             for (int k = 0; k < dim * dim * dim * dim; ++k) f(t->data()[k]);
-        for (double* x : {&particles, &rattlers, &contact_count, &solid, &counted, &contact_sum, &weight_sum, &sliding_weight})
+        for (double* x : {&particles, &rattlers, &contact_count, &solid, &counted, &contact_sum, &weight_sum, &sliding_weight,
+                          &backbone_contact_sum})
             f(*x);
     }
 };
@@ -194,16 +200,22 @@ AverageSums<dim> average_sums(const PackingSnapshot<dim>& s, const Region<dim>& 
     AverageSums<dim> out;
     const double V = region.volume();
     // Particles: count, volume fraction, kinetic stress, coordination.
-    std::vector<int> contacts_of(s.size(), 0);
+    std::vector<int> contacts_of(s.size(), 0), backbone_contacts_of(s.size(), 0);
     for (std::size_t q = 0; q < s.contacts.size(); ++q) {
+        const auto& c = s.contacts[q];
+        if (!cw.rattler[c.i] && (c.wall || !cw.rattler[c.j])) {
+            ++backbone_contacts_of[c.i];
+            if (!c.wall) ++backbone_contacts_of[c.j];
+        }
         if (!cw.counted[q]) continue;
-        ++contacts_of[s.contacts[q].i];
-        if (!s.contacts[q].wall) ++contacts_of[s.contacts[q].j];
+        ++contacts_of[c.i];
+        if (!c.wall) ++contacts_of[c.j];
     }
     for (std::size_t p = 0; p < s.size(); ++p) {
         if (!cw.inside[p] || (share && !share->particle[p])) continue;
         out.particles += 1.0;
         out.rattlers += cw.rattler[p];
+        if (!cw.rattler[p]) out.backbone_contact_sum += backbone_contacts_of[p];
         out.solid += DimTraits<dim>::particle_volume(s.radius[p]);
         if (opt.kinetic_stress && !s.velocity.empty()) {
             Vec<dim> v = s.velocity[p];
@@ -238,6 +250,8 @@ MicroMacro<dim> finish_average(const AverageSums<dim>& sums, double V) {
     out.stress_kinetic = sums.stress_kinetic;
     out.volume_fraction = sums.solid / V;
     out.coordination = sums.counted > 0 ? sums.contact_sum / sums.counted : 0.0;
+    const double backbone = sums.particles - sums.rattlers;
+    out.coordination_without_rattlers = backbone > 0 ? sums.backbone_contact_sum / backbone : 0.0;
     out.fabric = sums.contacts.fabric;
     out.stress_normal = sums.contacts.stress_normal;
     out.stress_tangential = sums.contacts.stress_tangential;

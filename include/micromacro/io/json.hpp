@@ -54,6 +54,7 @@ nlohmann::ordered_json to_json(const MicroMacro<dim>& m) {
     j["rattlers"] = m.rattlers;
     j["contacts"] = m.contacts;
     j["coordination"] = m.coordination;
+    j["coordination_without_rattlers"] = m.coordination_without_rattlers;
     j["volume_fraction"] = m.volume_fraction;
     j["contact_number_density"] = m.contact_number_density;
     j["g2"] = m.g2;
