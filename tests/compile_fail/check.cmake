@@ -2,11 +2,7 @@
 # given in the source as `// expect-error: REGEX` (or succeeds, for a source without one).
 file(STRINGS ${SOURCE} expect REGEX "// expect-error: ")
 string(REGEX REPLACE ".*// expect-error: " "" expect "${expect}")
-set(extra_include "")
-if(DEFINED EXTRA_INCLUDE)  # e.g. MPI's headers
-  set(extra_include -I${EXTRA_INCLUDE})
-endif()
-execute_process(COMMAND ${CXX} -std=c++20 -fsyntax-only -I${INCLUDE} -I${EIGEN} ${extra_include} ${SOURCE}
+execute_process(COMMAND ${CXX} -std=c++20 -fsyntax-only -I${INCLUDE} -I${EIGEN} ${SOURCE}
                 RESULT_VARIABLE rc ERROR_VARIABLE err OUTPUT_QUIET)
 if(expect STREQUAL "")
   if(NOT rc EQUAL 0)

@@ -217,7 +217,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(local_damping_scales_each_component, D, Dims) {
         w[0] = mm::Vec<3>(10.0, 0.0, 5.0);
     }
     mm::EnergyBooks books;
-    mm::LocalDamping(alpha).apply<true>(p, books, dt);
+    mm::LocalDamping(alpha).apply<true>(p, books, mm::BodyForceStep<dim>{dt});
     const V g = p.template get<mm::field::Force>()[0];
     BOOST_TEST(std::abs(g[0] - 2.0 * (1 - alpha)) < 1e-15);
     BOOST_TEST(std::abs(g[1] - 3.0 * (1 + alpha)) < 1e-15);
@@ -346,7 +346,7 @@ BOOST_AUTO_TEST_CASE_TEMPLATE(affine_damping_leaves_the_box_flow_alone, D, Dims)
     p.velocity()[3] += off;
     mm::EnergyBooks books;
     const double gamma_b = 0.05, gamma_r = 1e-8;
-    mm::AffineDamping(gamma_b, gamma_r).apply<true>(p, books, 1e-6, field);
+    mm::AffineDamping(gamma_b, gamma_r).apply<true>(p, books, mm::BodyForceStep<dim>{1e-6, field});
     for (std::size_t i = 0; i < p.size(); ++i) {
         const V expected = i == 3 ? V(-gamma_b * off) : V(V::Zero());
         BOOST_TEST((p.template get<mm::field::Force>()[i] - expected).norm() < 1e-15);

@@ -90,9 +90,8 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <class F>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::gravitational_energy(const F& force) const -> double {
-    // Of the own particles (with ghosts, see energy()), where the policy takes a count.
+    // Of the own particles (with ghosts, see energy()); a body force without a potential has none.
     if constexpr (requires { force.potential_energy(particles_, owned_count()); }) return force.potential_energy(particles_, owned_count());
-    else if constexpr (requires { force.potential_energy(particles_); }) return force.potential_energy(particles_);
     else return 0.0;
 }
 

@@ -79,22 +79,11 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
 template <bool track, class F>
 inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::apply_body_force(const F& force) -> void {
-    // On the own particles (a ghost's force is its owner's), where the policy takes a count.
-    const std::size_t n = owned_count();
-    auto apply = [&](const auto&... field) {
-        if constexpr (requires { force.template apply<track>(particles_, step_books_, dt_, field..., n); })
-            force.template apply<track>(particles_, step_books_, dt_, field..., n);
-        else
-            force.template apply<track>(particles_, step_books_, dt_, field...);
-    };
-    if constexpr (requires(AffineField<dim> field) { force.template apply<track>(particles_, step_books_, dt_, field); }) {
-        AffineField<dim> field;
-        if constexpr (has_walls) field = walls_.affine_field();
-        else field = {domain_.centre(), Vec<dim>::Zero(), domain_.velocity_gradient()};  // the cell's flow (zero at rest)
-        apply(field);
-    } else {
-        apply();
-    }
+    // On the own particles (a ghost's force is its owner's), with the scene's mean flow.
+    BodyForceStep<dim> step{dt_, {}, owned_count()};
+    if constexpr (has_walls) step.flow = walls_.affine_field();
+    else step.flow = {domain_.centre(), Vec<dim>::Zero(), domain_.velocity_gradient()};  // the cell's flow (zero at rest)
+    force.template apply<track>(particles_, step_books_, step);
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>

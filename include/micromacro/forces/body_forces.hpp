@@ -1,11 +1,12 @@
 #pragma once
 // Forces that act on each particle alone. Each policy adds to the force (and torque) arrays and,
-// when energy is tracked, books what it dissipates; a policy with a potential reports it. The
-// engine applies them after the contact and wall forces, in the order the scene lists them; a
-// policy whose apply() takes an AffineField receives the mean flow of the scene's walls with it.
-// apply() and potential_energy() act on the first `count` particles (all by default): the engine
-// passes the particles it computes, without the ghosts of a distributed run, whose forces and
-// energies are their owners'.
+// when energy is tracked, books what it dissipates (the BodyForce concept below: one apply() with
+// what the engine hands every evaluation, a BodyForceStep); a policy with a potential reports it
+// (potential_energy), and a drag names its decay rates (drag_rate, spin_drag_rate) for the
+// time-step check. The engine applies them after the contact and wall forces, in the order the
+// scene lists them. apply() and potential_energy() act on the first `count` particles: the
+// engine passes the particles it computes, without the ghosts of a distributed run, whose forces
+// and energies are their owners'.
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -21,6 +22,23 @@ namespace micromacro {
 
 /// A policy's default count: every particle.
 inline constexpr std::size_t all_particles = std::numeric_limits<std::size_t>::max();
+
+/// What the engine hands a body force at every evaluation.
+template <int dim>
+struct BodyForceStep {
+    double dt = 0.0;                     ///< the time step, for the energy books
+    AffineField<dim> flow{};             ///< the scene's mean flow: its walls' affine field, or the periodic cell's (zero at rest)
+    std::size_t count = all_particles;   ///< act on the first `count` particles only (a distributed run's ghosts are their owners')
+};
+
+/// A body force: `apply<track_energy>(particles, books, step)` adds its forces (and torques) to
+/// the first step.count particles and, with track_energy, books what it takes. Checked by the
+/// engine for its dimension, rotation and storage precision.
+template <class F, int dim, bool rot, class Real>
+concept BodyForce = requires(const F& f, Particles<dim, rot, Real>& p, EnergyBooks& books, const BodyForceStep<dim>& step) {
+    f.template apply<true>(p, books, step);
+    f.template apply<false>(p, books, step);
+};
 
 /// Background damping, Eq. 30: f_i -= gamma_b v_i, and t_i -= gamma_r omega_i when particles rotate.
 struct BackgroundDamping {
@@ -40,7 +58,7 @@ struct BackgroundDamping {
     double spin_drag_rate(double inverse_inertia) const { return rotational * inverse_inertia; }
 
     template <bool track_energy, int dim, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, std::size_t count = all_particles) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, const BodyForceStep<dim>& step) const {
         // One pass, raw pointers and local constants (through the members the compiler reloaded
         // them after every store). The power gamma |v|^2 is summed as |v|^2 and |omega|^2 apart,
         // two independent chains of additions instead of one running through both loops (perf had
@@ -55,7 +73,7 @@ struct BackgroundDamping {
         }
         if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
         const double gamma_b = translational, gamma_r = rotational;
-        const std::size_t n = std::min(count, p.size());
+        const std::size_t n = std::min(step.count, p.size());
         double v_sq = 0.0, w_sq = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             f[i] -= gamma_b * convert<double>(v[i]);
@@ -65,13 +83,13 @@ struct BackgroundDamping {
                 if constexpr (track_energy) w_sq += DimTraits<dim>::squared_norm(convert<double>(w[i]));
             }
         }
-        if constexpr (track_energy) books.dissipated_background += (translational * v_sq + rotational * w_sq) * dt;
+        if constexpr (track_energy) books.dissipated_background += (translational * v_sq + rotational * w_sq) * step.dt;
     }
 };
 
 /// Eq. 30 measured against the box's mean flow instead of the lab: f_i -= gamma_b (v_i - u(x_i)),
-/// t_i -= gamma_r (omega_i - the flow's spin), u the affine field of the walls
-/// (Walls::affine_field; in a scene without walls the lab frame, so Eq. 30 itself). A packing
+/// t_i -= gamma_r (omega_i - the flow's spin), u the scene's mean flow (BodyForceStep::flow: the
+/// walls' affine field, or a periodic cell's flow; in a still scene the lab frame, so Eq. 30 itself). A packing
 /// that follows its walls affinely feels no drag, so a strong damping calms the oscillations a
 /// moving wall drives without resisting the deformation itself; it does resist non-affine flow
 /// such as a shear band.
@@ -92,15 +110,15 @@ struct AffineDamping {
     double spin_drag_rate(double inverse_inertia) const { return rotational * inverse_inertia; }
 
     template <bool track_energy, int dim, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, const AffineField<dim>& field,
-               std::size_t count = all_particles) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, const BodyForceStep<dim>& step) const {
         if (translational == 0.0 && rotational == 0.0) return;  // listed but off: no pass
+        const AffineField<dim>& field = step.flow;
         auto& f = p.template get<field::Force>();
         const auto& x = p.template get<field::Position>();
         const auto& v = p.template get<field::Velocity>();
         [[maybe_unused]] const Angular<dim> spin = field.spin();
         double power = 0.0;
-        const std::size_t n = std::min(count, p.size());
+        const std::size_t n = std::min(step.count, p.size());
         for (std::size_t i = 0; i < n; ++i) {
             const Vec<dim> velocity = convert<double>(v[i]), relative = velocity - field.velocity(convert<double>(x[i]));
             f[i] -= Vec<dim>(translational * relative);
@@ -116,7 +134,7 @@ struct AffineDamping {
         // relative motion, plus gamma (v - u) . u against the mean flow, which the walls' work
         // supplies (it is not zero where the motion is not affine); booked as dissipated, so the
         // energy books close.
-        if constexpr (track_energy) books.dissipated_background += power * dt;
+        if constexpr (track_energy) books.dissipated_background += power * step.dt;
     }
 };
 
@@ -137,7 +155,7 @@ struct LocalDamping {
     }
 
     template <bool track_energy, int dim, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, double dt, std::size_t count = all_particles) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks& books, const BodyForceStep<dim>& step) const {
         if (alpha == 0.0) return;  // listed but off: no pass
         auto& f = p.template get<field::Force>();
         const auto& v = p.template get<field::Velocity>();
@@ -149,7 +167,7 @@ struct LocalDamping {
             force = fk - taken;
             return taken * vk;
         };
-        const std::size_t n = std::min(count, p.size());
+        const std::size_t n = std::min(step.count, p.size());
         for (std::size_t i = 0; i < n; ++i) {
             for (int k = 0; k < dim; ++k) power += damp(f[i][k], v[i][k]);
             if constexpr (rot) {
@@ -160,7 +178,7 @@ struct LocalDamping {
                     for (int k = 0; k < 3; ++k) power += damp(t[k], w[k]);
             }
         }
-        if constexpr (track_energy) books.dissipated_background += power * dt;
+        if constexpr (track_energy) books.dissipated_background += power * step.dt;
     }
 };
 
@@ -170,10 +188,10 @@ struct Gravity {
     Vec<dim> g = Vec<dim>::Zero();
 
     template <bool track_energy, bool rot, class Real>
-    void apply(Particles<dim, rot, Real>& p, EnergyBooks&, double, std::size_t count = all_particles) const {
+    void apply(Particles<dim, rot, Real>& p, EnergyBooks&, const BodyForceStep<dim>& step) const {
         auto& f = p.template get<field::Force>();
         const auto& m = p.template get<field::Mass>();
-        const std::size_t n = std::min(count, p.size());
+        const std::size_t n = std::min(step.count, p.size());
         for (std::size_t i = 0; i < n; ++i) f[i] += double(m[i]) * g;
     }
     template <bool rot, class Real>
