@@ -29,12 +29,12 @@
 #include "micromacro/engine/contact_view.hpp"
 #include "micromacro/engine/pair_loop.hpp"
 #include "micromacro/engine/particle_pass.hpp"
+#include "micromacro/engine/policy_checks.hpp"
 #include "micromacro/engine/spring_adjustments.hpp"
 #include "micromacro/engine/stability.hpp"
 #include "micromacro/engine/thread_shares.hpp"
 #include "micromacro/engine/wall_contacts.hpp"
 #include "micromacro/engine/wall_work.hpp"
-#include "micromacro/forces/body_forces.hpp"
 #include "micromacro/integrators/integrators.hpp"
 #include "micromacro/neighbors/linked_cells.hpp"
 #include "micromacro/neighbors/search_window.hpp"
@@ -52,12 +52,7 @@ namespace micromacro {
 template <int dim, class Real, class Law, class Boundary = NoWalls, class Integrator = VelocityVerlet,
           class Neighbors = LinkedCells, class... BodyForces>
 class BasicSimulation {
-    static_assert(SupportedDimension<dim>, "the engine runs in 2 or 3 dimensions");
-    static_assert(std::is_same_v<Real, double> || std::is_same_v<Real, float>, "particle state is stored in double or float");
-    static_assert(ContactLawIn<Law, dim>, "the contact law does not satisfy ContactLawModel (contact/contact_law.hpp)");
-    static_assert((BodyForce<BodyForces, dim, Law::needs_rotation, Real> && ...),
-                  "a body force does not satisfy BodyForce (forces/body_forces.hpp): it needs "
-                  "template <bool track_energy, ...> apply(Particles&, EnergyBooks&, const BodyForceStep<dim>&) const");
+    static_assert(detail::check_policies<dim, Real, Law, Integrator, Neighbors, BodyForces...>());
 
 public:
     static constexpr int dimension = dim;

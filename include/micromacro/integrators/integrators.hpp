@@ -8,9 +8,33 @@
 //   kick_force_change(h)  v += h (F - F_previous)/m, for integrators that keep F_previous.
 // On entry to step() the forces belong to the current state; so they do on exit.
 #include <cmath>
+#include <concepts>
 #include <cstddef>
 
 namespace micromacro {
+
+namespace detail {
+/// The stages every scene offers its integrator (see above), as declarations only: what the
+/// TimeIntegrator concept checks an integrator's step() and run() against.
+struct StagesArchetype {
+    void kick_drift_kick(double h1, double dt, double h2, double h0 = 0.0);
+    void compute_forces();
+    void kick_force_change(double h);
+};
+}  // namespace detail
+
+/// An integrator: a name and order (for reports), whether it keeps the previous forces (the
+/// engine then stores them), step() and run() over the stages, and the largest stable dt of a
+/// damped oscillator x'' = -omega0^2 x - 2 eta x' under it (the engine's time-step check).
+template <class I>
+concept TimeIntegrator = requires(const I& i, detail::StagesArchetype& stages, double dt, std::size_t steps) {
+    { I::name } -> std::convertible_to<const char*>;
+    { I::order } -> std::convertible_to<int>;
+    { I::keeps_previous_forces } -> std::convertible_to<bool>;
+    { I::stability_limit(1.0, 0.0) } -> std::convertible_to<double>;
+    i.step(stages, dt);
+    i.run(stages, dt, steps);
+};
 
 /// Velocity Verlet (kick-drift-kick), second order, symplectic; the default.
 ///
