@@ -183,9 +183,9 @@ def frictionless_shear():
     dilatancy (phi at the random close packing). The volume fraction is compared with the prepared
     packing's, the isotropic packing at rest at the same p d/k."""
     common = ["--dim", "3", "--preset", "shear-p", "--mu", "0", "--pressure", "5e4", "--gamma-b", "5e-4", "--strain", "1",
-              "--rows", "400", "--radius-min", "0.8e-3", "--radius-max", "1.2e-3", "--dt-fraction", "25"]
-    first = run("element_test", common + ["--particles", "4000", "--mu-prepare", "0", "--inertial-number", "1e-3"],
-                "frictionless_shear_4000_I1e-3")
+              "--rows", "400", "--dt-fraction", "25"]
+    first = run("element_test", common + ["--particles", "4000", "--radius-min", "0.8e-3", "--radius-max", "1.2e-3",
+                                          "--mu-prepare", "0", "--inertial-number", "1e-3"], "frictionless_shear_4000_I1e-3")
     prepared = os.path.join(first, "prepared.state")
     rates = ("1e-4", "3e-4", "1e-3", "3e-3")
     outs = run_all([("element_test", common + ["--from-prepared", prepared, "--inertial-number", i], f"frictionless_shear_4000_I{i}")
