@@ -148,8 +148,8 @@ def jamming():
     jamming and grows as (phi - phi_c)^0.5, and p linearly with phi - phi_c for linear springs."""
     print("| dim | particles | lowest p/k (p d/k) | phi there | Z_c (fit with beta = 0.5, 95%) | beta (fit with Z_c = 2d, 95%) | states |")
     print("|---|---|---|---|---|---|---|")
-    # 2D from p/k = 1e-5; 3D from p d/k = 1e-4 (the spheres' servo rests too slowly below: the
-    # shear stiffness vanishes towards jamming while the servo's gain follows the affine one).
+    # 2D from p/k = 1e-5; 3D from p d/k = 1e-4 (at 1e-5 the spheres' preparation did not come to
+    # rest within 40 minutes).
     for dim, n, p0, pk0, factors in ((2, 1000, 1.0, 1e-5, (3, 10, 30, 100, 300, 1000)), (3, 1000, 5e3, 1e-4, (3, 10, 30, 100))):
         if dim not in DIMS:
             continue
