@@ -25,6 +25,7 @@
 #include "micromacro/walls/shape.hpp"
 #include "micromacro/walls/walls.hpp"
 #include "micromacro/averaging/affine_probe.hpp"
+#include "micromacro/averaging/anisotropy.hpp"
 #include "micromacro/averaging/coarse_graining.hpp"
 #include "micromacro/averaging/micro_macro.hpp"
 #include "micromacro/averaging/region.hpp"
