@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include <micromacro/averaging/anisotropy.hpp>
 #include <micromacro/averaging/micro_macro.hpp>
 
 namespace micromacro::cli {
@@ -39,6 +40,21 @@ void add_stiffness_columns(Row& r, const MicroMacro<dim>& m) {
     for (int p = 0; p < dim * dim; ++p)
         for (int q = p; q < dim * dim; ++q)
             r.add("C_t_" + component({p / dim, p % dim, q / dim, q % dim}), m.stiffness_tangential(p / dim, p % dim, q / dim, q % dim));
+}
+
+/// The anisotropy coefficients (averaging/anisotropy.hpp): a_c, a_n, a_t (2D the Fourier
+/// coefficients, 3D sqrt(3/2 a : a)), and in 2D their major directions theta_c, theta_n, theta_t
+/// (rad from axis 1).
+template <int dim>
+void add_anisotropy_columns(Row& r, const Anisotropy<dim>& a) {
+    r.add("a_c", a.a_c);
+    r.add("a_n", a.a_n);
+    r.add("a_t", a.a_t);
+    if constexpr (dim == 2) {
+        r.add("theta_c", a.theta_c);
+        r.add("theta_n", a.theta_n);
+        r.add("theta_t", a.theta_t);
+    }
 }
 
 }  // namespace micromacro::cli

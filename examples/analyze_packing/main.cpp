@@ -88,6 +88,7 @@ nlohmann::ordered_json analyze(const Options& o, mm::io::PackingFormat format) {
     options.exclude_rattlers = o.exclude_rattlers;
     const auto region = mm::Region<dim>::box(lo, hi).inner(s.domain, o.margin);
     auto j = mm::io::to_json(mm::average(s, region, options));
+    j["anisotropy"] = mm::io::to_json(mm::anisotropy(s, region, options));
     // Numbers that overflowed would print as null: refused.
     std::function<void(const nlohmann::ordered_json&, const std::string&)> finite = [&](const auto& v, const std::string& key) {
         if (v.is_number_float() && !std::isfinite(v.template get<double>()))

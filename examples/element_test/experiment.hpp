@@ -212,7 +212,8 @@ public:
     /// The time-series row of the present state.
     Row row() const {
         Row r;
-        const auto m = control_.measure(sim_);
+        const auto snapshot = mm::take_snapshot(sim_);
+        const auto m = control_.measure(snapshot);
         const auto e = sim_.energy();
         const auto& books = sim_.books();
         const Matrix& F = control_.deformation();
@@ -248,6 +249,7 @@ public:
         r.add("coordination_without_rattlers", m.coordination_without_rattlers);  // as jamming studies count it
         r.add("volume_fraction", m.volume_fraction);
         mm::cli::add_stiffness_columns(r, m);
+        mm::cli::add_anisotropy_columns(r, mm::anisotropy(snapshot, mm::Region<dim>::whole(snapshot)));
         // I = (largest imposed strain rate) d sqrt(rho / p), with the pressure now.
         const double rate = L.cwiseAbs().maxCoeff();
         r.add("inertial_number", m.pressure > 0 ? rate * 2.0 * c_.mean_radius() * std::sqrt(c_.inertial_density() / m.pressure) : 0.0);

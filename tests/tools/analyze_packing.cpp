@@ -135,6 +135,15 @@ BOOST_AUTO_TEST_CASE(contact_force_file) {
     const double V = 16 * l * l;
     BOOST_TEST(std::abs(j["stress_tangential"][0][1].get<double>() - l * 0.25 / V) < 1e-12 * l * 0.25 / V);
     BOOST_TEST(std::abs(j["stress_tangential"][1][0].get<double>()) < 1e-20);
+    // Every branch has one length here, so the anisotropy's stress-force-fabric relation rebuilds
+    // the deviatoric stress over p exactly (the symmetric part: the tangential force makes sigma_xz
+    // differ from sigma_zx).
+    const auto& an = j["anisotropy"];
+    const double p = 0.5 * (j["stress"][0][0].get<double>() + j["stress"][1][1].get<double>());
+    const double s_xz = 0.5 * (j["stress"][0][1].get<double>() + j["stress"][1][0].get<double>());
+    BOOST_TEST(std::abs(an["stress_ratio"][0][1].get<double>() - s_xz / p) < 1e-12 * std::abs(s_xz / p));
+    BOOST_TEST(std::abs(an["stress_ratio"][0][0].get<double>() - (j["stress"][0][0].get<double>() - p) / p) < 1e-12);
+    BOOST_TEST(an["a_t"].get<double>() > 0.0);
 
     const auto apart = write("apart.csv", "i,j,ft_x,ft_z\n100,110,0,1\n");
     const auto bad = run(packing + box + " --contact-forces " + apart);

@@ -85,7 +85,10 @@ public:
     /// The cell's averages over its whole volume, kinetic stress included (relative to the flow).
     template <class Sim>
     static MicroMacro<dim> measure(const Sim& sim) {
-        const PackingSnapshot<dim> s = take_snapshot(sim);
+        return measure(take_snapshot(sim));
+    }
+    /// The same of a snapshot of the cell.
+    static MicroMacro<dim> measure(const PackingSnapshot<dim>& s) {
         AveragingOptions opt;
         opt.kinetic_stress = true;
         return average(s, Region<dim>::whole(s), opt);

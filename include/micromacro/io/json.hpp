@@ -3,6 +3,7 @@
 // Rank-2 tensors become nested lists [dim][dim], rank-4 tensors [dim][dim][dim][dim].
 #include <nlohmann/json.hpp>
 
+#include "micromacro/averaging/anisotropy.hpp"
 #include "micromacro/averaging/micro_macro.hpp"
 
 namespace micromacro::io {
@@ -72,6 +73,26 @@ nlohmann::ordered_json to_json(const MicroMacro<dim>& m) {
     j["stiffness_tangential"] = to_json<dim>(m.stiffness_tangential);
     j["stiffness_kelvin_eigenvalues"] = vector_json((m.stiffness_normal + m.stiffness_tangential).kelvin_eigenvalues());
     j["sliding_fraction"] = m.sliding_fraction;
+    return j;
+}
+
+/// The anisotropy of the same contacts (docs/analyze-packing.md lists the keys).
+template <int dim>
+nlohmann::ordered_json to_json(const Anisotropy<dim>& a) {
+    nlohmann::ordered_json j;
+    j["a_c"] = a.a_c;
+    j["a_n"] = a.a_n;
+    j["a_t"] = a.a_t;
+    if constexpr (dim == 2) {
+        j["theta_c"] = a.theta_c;
+        j["theta_n"] = a.theta_n;
+        j["theta_t"] = a.theta_t;
+    }
+    j["contact"] = to_json<dim>(a.contact);
+    j["normal_force"] = to_json<dim>(a.normal_force);
+    j["tangential_force"] = to_json<dim>(a.tangential_force);
+    j["mean_normal_force"] = a.mean_normal_force;
+    j["stress_ratio"] = to_json<dim>(a.stress_ratio());
     return j;
 }
 
