@@ -59,13 +59,12 @@ struct Anisotropy {
     /// Scalar magnitudes: 2D half the difference of the eigenvalues (the Fourier coefficients
     /// a_c, a_n, a_t); 3D sqrt(3/2 a : a).
     double a_c = 0.0, a_n = 0.0, a_t = 0.0;
-    /// 2D: the major direction's angle from axis 1 (rad, in (-pi/2, pi/2]); 3D: 0 (see axes).
+    /// 2D: the major direction's angle from axis 1 (rad, in (-pi/2, pi/2]); 3D: 0 (principal() of
+    /// a tensor gives its axes).
     double theta_c = 0.0, theta_n = 0.0, theta_t = 0.0;
 
     /// 2/(d+2) (a^c + a^n + a^t): dev(sigma)/p as the stress-force-fabric relation rebuilds it.
     Tensor2<dim> stress_ratio() const { return 2.0 / (dim + 2) * (contact + normal_force + tangential_force); }
-    /// Eigenvectors (columns, ascending eigenvalues) of a tensor above.
-    static Tensor2<dim> axes(const Tensor2<dim>& a) { return principal<dim>(a).eigenvectors(); }
 };
 
 namespace detail {

@@ -294,10 +294,9 @@ private:
     template <bool track>
     void compute_forces_impl();
 
-    // A body force that measures motion against the walls' mean flow receives it (the lab frame,
-    // zero, in a scene without walls).
-    template <bool track, class F>
-    void apply_body_force(const F& force);
+    // What every body force gets at an evaluation: dt, the scene's mean flow (the walls' affine
+    // field, or the periodic cell's), the count of the engine's own particles.
+    BodyForceStep<dim> body_force_step() const;
 
     // Re-evaluates the forces of a state the books have not seen move (a re-prepare, an imposed
     // deformation): it adds nothing to the books, it only restarts the trapezoid.

@@ -72,18 +72,20 @@ inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, Bod
             detail::wall_forces<track, rotation, false>(in, wall_contacts_.size(), walls_, law_, dt_, f.data(), torque, step_books_,
                                                         wall_terms_);
     }
-    std::apply([&](const auto&... bf) { (apply_body_force<track>(bf), ...); }, body_forces_);
+    if constexpr (sizeof...(BodyForces) > 0) {  // each in the scene's order, with one step
+        const BodyForceStep<dim> step = body_force_step();
+        std::apply([&](const auto&... bf) { (bf.template apply<track>(particles_, step_books_, step), ...); }, body_forces_);
+    }
     if constexpr (track) close_step_books();
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
-template <bool track, class F>
-inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::apply_body_force(const F& force) -> void {
+inline auto BasicSimulation<dim, Real, Law, Boundary, Integrator, Neighbors, BodyForces...>::body_force_step() const -> BodyForceStep<dim> {
     // On the own particles (a ghost's force is its owner's), with the scene's mean flow.
     BodyForceStep<dim> step{dt_, {}, owned_count()};
     if constexpr (has_walls) step.flow = walls_.affine_field();
     else step.flow = {domain_.centre(), Vec<dim>::Zero(), domain_.velocity_gradient()};  // the cell's flow (zero at rest)
-    force.template apply<track>(particles_, step_books_, step);
+    return step;
 }
 
 template <int dim, class Real, class Law, class Boundary, class Integrator, class Neighbors, class... BodyForces>
